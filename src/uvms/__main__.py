@@ -1,0 +1,7 @@
+"""``python -m uvms``: the command-line interface."""
+
+import sys
+
+from uvms.cli import main
+
+sys.exit(main())

@@ -1,0 +1,50 @@
+"""Command-line interface: ``uvms <command> ...`` (subcommands in :mod:`uvms.commands`).
+
+The only place that prints errors and chooses exit codes: 0 success, 2 invalid input (one line, no traceback),
+3 simulation diverged.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from importlib.metadata import PackageNotFoundError, version
+
+from uvms.commands import COMMANDS
+from uvms.errors import SimulationDiverged, UvmsInputError
+
+
+def _version() -> str:
+    try:
+        return version("uvms")
+    except PackageNotFoundError:  # running from a source tree without installation
+        return "unknown"
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``uvms`` parser with one subparser per module in :data:`uvms.commands.COMMANDS`."""
+    parser = argparse.ArgumentParser(prog="uvms", description="Underwater vehicle-manipulator system simulator.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for module_name in COMMANDS:
+        module = importlib.import_module(f"uvms.commands.{module_name}")
+        sub = subparsers.add_parser(module.NAME, help=module.HELP, description=module.HELP)
+        module.add_arguments(sub)
+        sub.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the CLI and return the exit code (``--help``, ``--version`` and usage errors included)."""
+    try:
+        args = build_parser().parse_args(argv)
+        return int(args._run(args))
+    except SystemExit as exc:  # argparse: --help, --version, usage errors
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    except UvmsInputError as exc:
+        print(f"uvms: error: {exc}", file=sys.stderr)
+        return 2
+    except SimulationDiverged as exc:
+        print(f"uvms: error: {exc}", file=sys.stderr)
+        return 3

@@ -1,0 +1,118 @@
+"""Labelled Python entry points to the compiled dynamics (checks at the boundary, Pinocchio-style).
+
+``forward_dynamics`` (ABA), ``inverse_dynamics`` (RNEA) and ``mass_matrix`` (CRBA) take a frozen
+:class:`~uvms.model.Model` and a :class:`~uvms.state.State`. Vectors are ``[angular; linear]``, body axes.
+Current and fluid acceleration default to the model's environment and may be overridden per call
+(world frame).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from uvms.dynamics.aba import aba
+from uvms.dynamics.crba import crba
+from uvms.dynamics.kernel_model import make_workspace
+from uvms.dynamics.rnea import rnea
+
+
+def _vec(value, size: int, name: str) -> np.ndarray:
+    if value is None:
+        return np.zeros(size)
+    a = np.array(value, dtype=float).reshape(-1)
+    if a.shape != (size,):
+        raise ValueError(f"{name}: expected {size} values, got shape {np.shape(value)}")
+    return a
+
+
+@dataclass(frozen=True)
+class Accelerations:
+    """Result of :func:`forward_dynamics`.
+
+    ``nu_dot`` (6): time derivative of the body velocity ``nu = [omega; v]`` (the spatial acceleration in
+    body axes) [rad/s^2, m/s^2]; ``qdd`` (n): joint accelerations [rad/s^2].
+    """
+
+    nu_dot: np.ndarray
+    qdd: np.ndarray
+
+    @property
+    def generalized(self) -> np.ndarray:
+        """``[nu_dot; qdd]`` (6 + n)."""
+        return np.concatenate([self.nu_dot, self.qdd])
+
+
+@dataclass(frozen=True)
+class Environment:
+    """World-frame current velocity [m/s] and fluid acceleration [m/s^2] for one evaluation."""
+
+    current: np.ndarray
+    fluid_acceleration: np.ndarray
+
+
+def environment(model, current=None, fluid_acceleration=None) -> Environment:
+    """The model's environment, with per-call overrides."""
+    vc = model.current if current is None else current
+    af = model.fluid_acceleration if fluid_acceleration is None else fluid_acceleration
+    return Environment(_vec(vc, 3, "current"), _vec(af, 3, "fluid_acceleration"))
+
+
+def _state_arrays(model, state, fixed_base: bool):
+    n = model.n_joints
+    if state.q.size != n:
+        raise ValueError(f"state has {state.q.size} joints, the model {model.name!r} has {n}")
+    nu = np.array(state.nu, dtype=float)
+    if fixed_base and np.any(nu != 0.0):
+        raise ValueError("fixed_base=True needs a vehicle at rest (state.nu == 0): a clamped vehicle does not move")
+    return (state.rotation, nu, np.array(state.q, dtype=float), np.array(state.qd, dtype=float))
+
+
+def forward_dynamics(model, state, *, joint_torques=None, body_wrench=None, ee_wrench=None, fixed_base=False,
+                     current=None, fluid_acceleration=None) -> Accelerations:
+    """Accelerations of the vehicle and the arm by the hydrodynamic articulated-body algorithm (Eqs. 13-23).
+
+    Args:
+        joint_torques: (n,) [N m]; zero when omitted.
+        body_wrench: (6,) wrench ``f_0 = [moment; force]`` on the vehicle, body axes (thrusters, Eq. 11).
+        ee_wrench: (6,) spatial force on the end effector in end-effector axes (Eq. 14's ``f_ee``).
+        fixed_base: clamp the vehicle (a land-based arm): ``nu_dot = 0``.
+        current, fluid_acceleration: (3,) world-frame overrides of the model's environment.
+    """
+    R0, nu, q, qd = _state_arrays(model, state, fixed_base)
+    n = model.n_joints
+    env = environment(model, current, fluid_acceleration)
+    nu_dot = np.zeros(6)
+    qdd = np.zeros(n)
+    aba(model.kernel, make_workspace(model.n_bodies), R0, nu, q, qd, _vec(joint_torques, n, "joint_torques"),
+        _vec(body_wrench, 6, "body_wrench"), _vec(ee_wrench, 6, "ee_wrench"), env.current,
+        env.fluid_acceleration, bool(fixed_base), nu_dot, qdd)
+    return Accelerations(nu_dot=nu_dot, qdd=qdd)
+
+
+def inverse_dynamics(model, state, *, nu_dot, qdd, ee_wrench=None, current=None,
+                     fluid_acceleration=None) -> tuple[np.ndarray, np.ndarray]:
+    """The vehicle wrench (6,) and joint torques (n,) that produce ``nu_dot`` and ``qdd`` (RNEA)."""
+    R0, nu, q, qd = _state_arrays(model, state, False)
+    n = model.n_joints
+    env = environment(model, current, fluid_acceleration)
+    f0 = np.zeros(6)
+    tau = np.zeros(n)
+    rnea(model.kernel, make_workspace(model.n_bodies), R0, nu, q, qd, _vec(nu_dot, 6, "nu_dot"),
+         _vec(qdd, n, "qdd"), _vec(ee_wrench, 6, "ee_wrench"), env.current, env.fluid_acceleration, f0, tau)
+    return f0, tau
+
+
+def mass_matrix(model, state) -> np.ndarray:
+    """Joint-space inertia matrix ``M`` (6+n, 6+n) of ``[nu; qd]``, added mass included (CRBA)."""
+    M = np.zeros((model.n_dof, model.n_dof))
+    crba(model.kernel, make_workspace(model.n_bodies), np.array(state.q, dtype=float), M)
+    return M
+
+
+def bias_forces(model, state, *, current=None, fluid_acceleration=None) -> np.ndarray:
+    """``h`` (6+n) with ``M [nu_dot; qdd] + h = [f_0; tau]``: RNEA at zero acceleration."""
+    f0, tau = inverse_dynamics(model, state, nu_dot=np.zeros(6), qdd=np.zeros(model.n_joints), current=current,
+                               fluid_acceleration=fluid_acceleration)
+    return np.concatenate([f0, tau])

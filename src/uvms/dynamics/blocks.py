@@ -1,0 +1,125 @@
+"""Compiled spatial-algebra blocks: scalar loops over 3- and 6-element blocks, no allocation.
+
+Same operations and order as :mod:`uvms.spatial` (``[angular; linear]``); every function writes into an
+output argument. ``X`` is a 6x6 Plucker motion transform, ``X^T`` maps forces back to the parent.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, inline="always")
+def cross3(a, b, out):
+    """``out = a x b`` for 3-vectors (``out`` must not alias ``a`` or ``b``)."""
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+
+
+@njit(cache=True, inline="always")
+def mat3_vec(E, x, out):
+    """``out = E x`` (3x3)."""
+    for i in range(3):
+        out[i] = E[i, 0] * x[0] + E[i, 1] * x[1] + E[i, 2] * x[2]
+
+
+@njit(cache=True, inline="always")
+def mat6_vec(A, x, out):
+    """``out = A x`` (6x6)."""
+    for i in range(6):
+        s = 0.0
+        for j in range(6):
+            s += A[i, j] * x[j]
+        out[i] = s
+
+
+@njit(cache=True, inline="always")
+def mat6T_vec_add(A, x, out):
+    """``out += A^T x`` (6x6): with ``A = Xup`` this carries a child's force to its parent."""
+    for j in range(6):
+        s = 0.0
+        for i in range(6):
+            s += A[i, j] * x[i]
+        out[j] += s
+
+
+@njit(cache=True, inline="always")
+def crm_mul(v, m, out):
+    """``out = v x m`` (spatial motion cross product, Featherstone Eq. 2.31)."""
+    out[0] = v[1] * m[2] - v[2] * m[1]
+    out[1] = v[2] * m[0] - v[0] * m[2]
+    out[2] = v[0] * m[1] - v[1] * m[0]
+    out[3] = v[1] * m[5] - v[2] * m[4] + v[4] * m[2] - v[5] * m[1]
+    out[4] = v[2] * m[3] - v[0] * m[5] + v[5] * m[0] - v[3] * m[2]
+    out[5] = v[0] * m[4] - v[1] * m[3] + v[3] * m[1] - v[4] * m[0]
+
+
+@njit(cache=True, inline="always")
+def crf_mul_add(v, f, scale, out):
+    """``out += scale * (v x* f)`` (spatial force cross product, Featherstone Eq. 2.32)."""
+    out[0] += scale * (v[1] * f[2] - v[2] * f[1] + v[4] * f[5] - v[5] * f[4])
+    out[1] += scale * (v[2] * f[0] - v[0] * f[2] + v[5] * f[3] - v[3] * f[5])
+    out[2] += scale * (v[0] * f[1] - v[1] * f[0] + v[3] * f[4] - v[4] * f[3])
+    out[3] += scale * (v[1] * f[5] - v[2] * f[4])
+    out[4] += scale * (v[2] * f[3] - v[0] * f[5])
+    out[5] += scale * (v[0] * f[4] - v[1] * f[3])
+
+
+@njit(cache=True, inline="always")
+def plucker(E, r, X):
+    """``X = [[E, 0], [-E skew(r), E]]`` (Featherstone Eq. 2.24)."""
+    for i in range(3):
+        for j in range(3):
+            X[i, j] = E[i, j]
+            X[i + 3, j + 3] = E[i, j]
+            X[i, j + 3] = 0.0
+        # row i of -E skew(r)
+        X[i + 3, 0] = -(E[i, 1] * r[2] - E[i, 2] * r[1])
+        X[i + 3, 1] = -(E[i, 2] * r[0] - E[i, 0] * r[2])
+        X[i + 3, 2] = -(E[i, 0] * r[1] - E[i, 1] * r[0])
+
+
+@njit(cache=True, inline="always")
+def congruence_add(X, I, out, tmp):
+    """``out += X^T I X`` (6x6), the articulated-inertia hand-over to the parent (Featherstone Eq. 7.39)."""
+    for i in range(6):
+        for j in range(6):
+            s = 0.0
+            for k in range(6):
+                s += I[i, k] * X[k, j]
+            tmp[i, j] = s
+    for i in range(6):
+        for j in range(6):
+            s = 0.0
+            for k in range(6):
+                s += X[k, i] * tmp[k, j]
+            out[i, j] += s
+
+
+@njit(cache=True)
+def cholesky_solve6(A, b, L, out):
+    """Solve ``A out = b`` for a symmetric positive-definite 6x6 ``A`` (Cholesky; ``L`` is scratch)."""
+    for j in range(6):
+        s = A[j, j]
+        for k in range(j):
+            s -= L[j, k] * L[j, k]
+        if s <= 0.0:
+            s = np.nan
+        L[j, j] = np.sqrt(s)
+        for i in range(j + 1, 6):
+            t = A[i, j]
+            for k in range(j):
+                t -= L[i, k] * L[j, k]
+            L[i, j] = t / L[j, j]
+    for i in range(6):
+        t = b[i]
+        for k in range(i):
+            t -= L[i, k] * out[k]
+        out[i] = t / L[i, i]
+    for i in range(5, -1, -1):
+        t = out[i]
+        for k in range(i + 1, 6):
+            t -= L[k, i] * out[k]
+        out[i] = t / L[i, i]

@@ -1,0 +1,69 @@
+"""Mass matrix: the composite-rigid-body algorithm (Featherstone 2008, Table 6.2), floating base.
+
+Generalized velocity ``[nu; qd]`` (vehicle first). With ``I^H = I + I_A`` (added mass included)::
+
+    IC_i = I^H_i;   tip to base: IC_p += Xup_i^T IC_i Xup_i
+    H[0:6, 0:6] = IC_0;   F = IC_i S,  H[i, i] = S^T F,  then F = Xup_j^T F up the chain:
+    H[i, j] = S^T F for each ancestor joint j,  H[0:6, i] = F at the vehicle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from uvms.dynamics.blocks import congruence_add, mat6T_vec_add
+from uvms.dynamics.passes import joint_transform
+
+
+@njit(cache=True)
+def crba(km, ws, q, M):
+    """Write the ``(6+n) x (6+n)`` joint-space inertia matrix ``M`` (added mass included)."""
+    nb = km.parent.shape[0]
+    for i in range(nb):
+        if i > 0:
+            joint_transform(km, i, q[i - 1], ws.E[i], ws.Xup[i])
+        for r in range(6):
+            for k in range(6):
+                ws.IA[i, r, k] = km.inertia_h[i, r, k]
+
+    # -- composite inertias, tip to base
+    tmp = ws.m6[2]
+    for i in range(nb - 1, 0, -1):
+        congruence_add(ws.Xup[i], ws.IA[i], ws.IA[km.parent[i]], tmp)
+
+    # -- rows and columns of M
+    for r in range(6):
+        for k in range(6):
+            M[r, k] = ws.IA[0, r, k]
+    F = ws.w6[0]
+    G = ws.w6[1]
+    for i in range(1, nb):
+        for k in range(6):
+            F[k] = ws.IA[i, k, 2]
+        M[5 + i, 5 + i] = F[2]
+        j = i
+        while km.parent[j] > 0:
+            for k in range(6):
+                G[k] = 0.0
+            mat6T_vec_add(ws.Xup[j], F, G)
+            for k in range(6):
+                F[k] = G[k]
+            j = km.parent[j]
+            M[5 + i, 5 + j] = F[2]
+            M[5 + j, 5 + i] = F[2]
+        for k in range(6):
+            G[k] = 0.0
+        mat6T_vec_add(ws.Xup[j], F, G)
+        for k in range(6):
+            M[k, 5 + i] = G[k]
+            M[5 + i, k] = G[k]
+
+
+@njit(cache=True)
+def crba_alloc(km, ws, q):
+    """:func:`crba` into a new array (for the Python API)."""
+    nb = km.parent.shape[0]
+    M = np.zeros((5 + nb, 5 + nb))
+    crba(km, ws, q, M)
+    return M

@@ -1,0 +1,49 @@
+"""Inverse dynamics: the recursive Newton-Euler algorithm with hydrodynamics (Featherstone 2008, Table 5.1).
+
+Given ``nu_dot`` and ``qdd``, the vehicle wrench ``f_0`` and joint torques ``tau`` that produce them::
+
+    outward:  a_i = Xup_i a_p + S qdd_i + c_i        f_i = I^H_i a_i + p_i
+    inward:   tau_i = S^T f_i                        f_p += Xup_i^T f_i
+
+``p_i`` is the same bias force (rigid velocity product and every hydrodynamic effect) as in the ABA, and
+``I^H = I + I_A``. The vehicle's net ``f_0`` is the body wrench the thrusters must apply.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from uvms.dynamics.blocks import mat6_vec, mat6T_vec_add
+from uvms.dynamics.passes import apply_external, outward_pass
+
+
+@njit(cache=True)
+def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_out, tau_out):
+    """Write the body wrench ``f_body_out`` (6) and joint torques ``tau_out`` (n); ``f_ee`` as in the ABA."""
+    nb = km.parent.shape[0]
+    outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid)
+    zero = ws.w6[3]
+    for k in range(6):
+        zero[k] = 0.0
+    apply_external(km, ws, zero, f_ee)
+    h = ws.w6[0]
+
+    # -- outward: accelerations and body forces f_i = I^H a_i + p_i
+    for k in range(6):
+        ws.a[0, k] = nu_dot[k]
+    for i in range(nb):
+        if i > 0:
+            mat6_vec(ws.Xup[i], ws.a[km.parent[i]], ws.a[i])
+            for k in range(6):
+                ws.a[i, k] += ws.c[i, k]
+            ws.a[i, 2] += qdd[i - 1]
+        mat6_vec(km.inertia_h[i], ws.a[i], h)
+        for k in range(6):
+            ws.pA[i, k] += h[k]
+
+    # -- inward: joint torques, forces handed to the parent
+    for i in range(nb - 1, 0, -1):
+        tau_out[i - 1] = ws.pA[i, 2]
+        mat6T_vec_add(ws.Xup[i], ws.pA[i], ws.pA[km.parent[i]])
+    for k in range(6):
+        f_body_out[k] = ws.pA[0, k]

@@ -1,0 +1,77 @@
+"""Forward kinematics: every link frame and the end effector in the world (modified DH, Craig 2005).
+
+``R_i = R_p E_i^T`` and ``p_i = p_p + R_p r_i`` down the chain, with ``E_i, r_i`` the joint transforms of
+:func:`uvms.dynamics.passes.joint_transform`; the end effector is the fixed ``eeX_n`` after the last link.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from uvms.dynamics.passes import joint_transform
+
+
+@njit(cache=True)
+def link_poses(km, R0, p0, q, R_out, p_out, E, X):
+    """World pose of every body (``R_out[i]`` body-to-world, ``p_out[i]`` origin) and, at index ``nb``,
+    of the end effector. ``R_out``/``p_out`` have ``nb + 1`` rows; ``E`` (3x3) and ``X`` (6x6) are scratch."""
+    nb = km.parent.shape[0]
+    for r in range(3):
+        p_out[0, r] = p0[r]
+        for k in range(3):
+            R_out[0, r, k] = R0[r, k]
+    for i in range(1, nb + 1):
+        if i < nb:
+            p = km.parent[i]
+            joint_transform(km, i, q[i - 1], E, X)
+            r = km.tree_r[i]
+        else:
+            p = nb - 1
+            for a in range(3):
+                for b in range(3):
+                    E[a, b] = km.ee_E[a, b]
+            r = km.ee_r
+        for a in range(3):
+            s = p_out[p, a]
+            for k in range(3):
+                s += R_out[p, a, k] * r[k]
+            p_out[i, a] = s
+            for b in range(3):
+                s = 0.0
+                for k in range(3):
+                    s += R_out[p, a, k] * E[b, k]       # R_p E^T
+                R_out[i, a, b] = s
+
+
+@dataclass(frozen=True)
+class Poses:
+    """World poses: ``rotation[i]`` (body to world) and ``position[i]`` for bodies 0..n, then the end effector."""
+
+    rotation: np.ndarray    # (n + 2, 3, 3)
+    position: np.ndarray    # (n + 2, 3) [m]
+
+    @property
+    def end_effector_position(self) -> np.ndarray:
+        return self.position[-1]
+
+    @property
+    def end_effector_rotation(self) -> np.ndarray:
+        return self.rotation[-1]
+
+
+def forward_kinematics(model, state) -> Poses:
+    """World pose of the vehicle, every link frame and the end effector."""
+    nb = model.n_bodies
+    R = np.zeros((nb + 1, 3, 3))
+    p = np.zeros((nb + 1, 3))
+    link_poses(model.kernel, state.rotation, np.array(state.position, dtype=float), np.array(state.q, dtype=float),
+               R, p, np.zeros((3, 3)), np.zeros((6, 6)))
+    return Poses(rotation=R, position=p)
+
+
+def end_effector_position(model, state) -> np.ndarray:
+    """End-effector position in the world frame (3,) [m]."""
+    return forward_kinematics(model, state).end_effector_position

@@ -1,0 +1,176 @@
+"""Reading model files: bundled names or paths -> validated :class:`~uvms.model.model.Model`.
+
+Every user-input problem (missing file, YAML syntax, schema violation) becomes a one-line
+:class:`~uvms.errors.UvmsInputError`. :func:`read_yaml` and :func:`format_validation_error` are meant to be
+reused for other input files (scenarios).
+"""
+
+from __future__ import annotations
+
+import os
+import types
+import typing
+from importlib.resources import files
+from pathlib import Path
+from typing import Any
+
+import yaml
+from pydantic import BaseModel, ValidationError
+
+from uvms.errors import UvmsInputError
+from uvms.model.build import build_model
+from uvms.model.model import Model
+from uvms.model.schema import UNION_TAGS, ModelSpec, show
+
+_MODELS = files("uvms.model") / "models"
+
+
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """Safe YAML loader that rejects a key repeated in one mapping (PyYAML silently keeps the last)."""
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
+        keys = [self.construct_object(key, deep=deep) for key, _ in node.value]
+        for i, key in enumerate(keys):
+            if key in keys[:i]:
+                mark = node.value[i][0].start_mark
+                raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", mark)
+        return super().construct_mapping(node, deep=deep)
+
+
+def read_yaml(path: str | os.PathLike[str]) -> Any:
+    """Parse a YAML file (safe loader, duplicate keys rejected); errors become one-line input errors."""
+    path = Path(path)
+    if not path.exists():
+        raise UvmsInputError("no such file", str(path))
+    if not path.is_file():
+        raise UvmsInputError("expected a YAML file, found a directory", str(path))
+    try:
+        return yaml.load(path.read_text(encoding="utf-8"), Loader=_UniqueKeyLoader)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else None
+        raise UvmsInputError(f"invalid YAML: {exc.problem or exc.context}", str(path), where) from None
+    except (yaml.YAMLError, UnicodeDecodeError, OSError) as exc:
+        raise UvmsInputError(f"cannot read YAML: {exc}", str(path)) from None
+
+
+def _leaves(annotation: Any) -> list[Any]:
+    """The model classes an annotation can hold (through Annotated, unions, tuples and lists)."""
+    origin, args = typing.get_origin(annotation), typing.get_args(annotation)
+    if origin is typing.Annotated:
+        return _leaves(args[0])
+    if origin in (typing.Union, types.UnionType, tuple, list):
+        return [leaf for arg in args if arg is not Ellipsis for leaf in _leaves(arg)]
+    return [annotation] if isinstance(annotation, type) and issubclass(annotation, BaseModel) else []
+
+
+def _allowed_keys(schema: type[BaseModel], loc: tuple[Any, ...]) -> list[str]:
+    """The keys the schema allows in the mapping that holds ``loc[-1]``."""
+    models: list[Any] = [schema]
+    for part in loc[:-1]:
+        if isinstance(part, str):
+            models = [leaf for m in models if part in m.model_fields for leaf in _leaves(m.model_fields[part].annotation)]
+    return sorted(models[0].model_fields) if models else []
+
+
+def _describe(error: dict[str, Any], schema: type[BaseModel] | None) -> str:
+    """What was expected and what was found, for one pydantic error."""
+    kind, ctx, found = error["type"], error.get("ctx", {}), show(error.get("input"))
+    if kind == "uvms":
+        return ctx["message"]
+    if kind == "missing":
+        return "required field is missing"
+    if kind == "extra_forbidden":
+        allowed = _allowed_keys(schema, error["loc"]) if schema is not None else []
+        return "unknown key" + (f"; expected one of: {', '.join(allowed)}" if allowed else "")
+    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
+        op, bound = {"greater_than": (">", "gt"), "greater_than_equal": (">=", "ge"), "less_than": ("<", "lt"),
+                     "less_than_equal": ("<=", "le")}[kind]
+        return f"expected a number {op} {ctx[bound]:g}, found {found}"
+    if kind in ("float_type", "float_parsing", "int_type", "int_parsing"):
+        return f"expected a number, found {found}"
+    if kind == "finite_number":
+        return f"expected a finite number, found {found}"
+    if kind == "literal_error":
+        return f"expected {ctx['expected']}, found {found}"
+    if kind in ("model_type", "model_attributes_type", "dict_type"):
+        return f"expected a mapping, found {found}"
+    if kind in ("tuple_type", "list_type"):
+        return f"expected a list, found {found}"
+    if kind == "string_type":
+        return f"expected a string, found {found}"
+    if kind == "string_too_short":
+        return f"expected a non-empty string, found {found}"
+    message = error["msg"]
+    return f"{message[:1].lower()}{message[1:]}, found {found}"
+
+
+def _field_path(error: dict[str, Any]) -> str:
+    """Dotted path such as ``arm.links[1].inertia.diagonal`` (union tags left out)."""
+    loc = [part for part in error["loc"] if part not in UNION_TAGS]
+    subpath = error.get("ctx", {}).get("subpath") if error["type"] == "uvms" else None
+    if subpath:
+        loc.append(subpath)
+    path = ""
+    for part in loc:
+        path += f"[{part}]" if isinstance(part, int) else (f".{part}" if path else str(part))
+    return path or "(top level)"
+
+
+def validation_input_error(exc: ValidationError, source: str | None, *,
+                           schema: type[BaseModel] | None = None) -> UvmsInputError:
+    """The first error of a pydantic ``ValidationError`` as a one-line :class:`UvmsInputError`.
+
+    ``schema`` (the validated model class) lets unknown-key errors list the allowed keys.
+    """
+    errors = exc.errors()
+    message = _describe(errors[0], schema)
+    if len(errors) > 1:
+        message += f" (and {len(errors) - 1} more error{'s' if len(errors) > 2 else ''})"
+    return UvmsInputError(message, source, _field_path(errors[0]))
+
+
+def format_validation_error(exc: ValidationError, source: str | None, *,
+                            schema: type[BaseModel] | None = None) -> str:
+    """One line ``"<source>: <field.path>: <expected, found>"`` for a pydantic ``ValidationError``."""
+    return str(validation_input_error(exc, source, schema=schema))
+
+
+def bundled_models() -> list[str]:
+    """Names of the models shipped with uvms (``uvms/model/models/<name>.yaml``)."""
+    return sorted(entry.name[: -len(".yaml")] for entry in _MODELS.iterdir() if entry.name.endswith(".yaml"))
+
+
+def resolve_model_path(name_or_path: str | os.PathLike[str]) -> Path:
+    """An existing file path as given, else the bundled model of that name."""
+    path = Path(name_or_path)
+    if path.exists():
+        return path
+    if str(name_or_path) in bundled_models():
+        return Path(str(_MODELS / f"{name_or_path}.yaml"))
+    raise UvmsInputError(f"no such file or bundled model (bundled: {', '.join(bundled_models())})",
+                         str(name_or_path))
+
+
+def load_model_spec(name_or_path: str | os.PathLike[str]) -> tuple[ModelSpec, str]:
+    """The validated :class:`ModelSpec` of a bundled name or a path, and the file it came from."""
+    path = resolve_model_path(name_or_path)
+    source = str(path)
+    data = read_yaml(path)
+    if not isinstance(data, dict):
+        found = "an empty file" if data is None else show(data)
+        raise UvmsInputError(f"expected a mapping of model fields at the top level, found {found}", source)
+    try:
+        return ModelSpec.model_validate(data), source
+    except ValidationError as exc:
+        raise validation_input_error(exc, source, schema=ModelSpec) from None
+
+
+def load_model(name_or_path: str | os.PathLike[str]) -> Model:
+    """Load a model: a bundled name (``"paper"``, see :func:`bundled_models`) or a YAML file path.
+
+    Raises:
+        UvmsInputError: missing file, YAML syntax error or invalid content (one-line message).
+    """
+    spec, source = load_model_spec(name_or_path)
+    return build_model(spec, source)

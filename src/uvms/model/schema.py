@@ -1,0 +1,348 @@
+"""Schema of a model YAML file (pydantic v2); ``models/paper.yaml`` is the annotated example.
+
+SI units throughout; spatial 6-vectors and 6x6 matrices are ``[angular; linear]`` (``shared/conventions.md``).
+Every model is frozen and forbids unknown keys. Besides shapes and signs, the physics is checked here:
+rotational inertia about the centre of mass must be symmetric positive semi-definite and satisfy the
+triangle inequality on its principal moments, and every added-mass matrix (paper Eq. 2) must be symmetric
+positive semi-definite. :func:`uvms.model.load.format_validation_error` turns a failure into one line.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Strict, Tag, ValidationInfo,
+                      field_validator, model_validator)
+from pydantic_core import PydanticCustomError
+
+from uvms.spatial import inertia_about_com
+
+RELATIVE_TOLERANCE = 1e-9
+"""Relative tolerance of the symmetry, semi-definiteness and triangle checks (the paper's links sit exactly
+on the triangle-inequality boundary: diag(0, 0.0016, 0.0016) about the CoM)."""
+
+
+def fail(message: str, subpath: str = "") -> PydanticCustomError:
+    """A validation error with a complete message; ``subpath`` (e.g. ``"diagonal"``) extends the field path."""
+    return PydanticCustomError("uvms", "{message}", {"message": message, "subpath": subpath})
+
+
+def show(value: Any, limit: int = 60) -> str:
+    """A short one-line rendering of a user value for error messages."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _vector(n: int, *, minimum: float | None = None) -> BeforeValidator:
+    """Accept a list of ``n`` finite numbers (each ``>= minimum`` if given) as a tuple of floats."""
+    what = f"a list of {n} " + ("finite numbers" if minimum is None else f"finite numbers >= {minimum:g}")
+
+    def check(value: Any) -> tuple[float, ...]:
+        if (isinstance(value, (list, tuple)) and len(value) == n and all(_is_number(x) for x in value)
+                and (minimum is None or all(x >= minimum for x in value))):
+            return tuple(float(x) for x in value)
+        raise fail(f"expected {what}, found {show(value)}")
+
+    return BeforeValidator(check)
+
+
+def _matrix(n: int) -> BeforeValidator:
+    """Accept an ``n`` x ``n`` nested list of finite numbers as a tuple of row tuples."""
+
+    def check(value: Any) -> tuple[tuple[float, ...], ...]:
+        if isinstance(value, (list, tuple)) and len(value) == n and all(
+                isinstance(row, (list, tuple)) and len(row) == n and all(_is_number(x) for x in row) for row in value):
+            return tuple(tuple(float(x) for x in row) for row in value)
+        raise fail(f"expected a {n}x{n} matrix (a list of {n} rows of {n} finite numbers), found {show(value)}")
+
+    return BeforeValidator(check)
+
+
+Number = Annotated[float, Strict()]
+Positive = Annotated[float, Strict(), Field(gt=0)]
+NonNegative = Annotated[float, Strict(), Field(ge=0)]
+Vec3 = Annotated[tuple[float, float, float], _vector(3)]
+NonNegativeVec3 = Annotated[tuple[float, float, float], _vector(3, minimum=0.0)]
+Vec6 = Annotated[tuple[float, float, float, float, float, float], _vector(6)]
+Mat3 = Annotated[tuple[tuple[float, ...], ...], _matrix(3)]
+Mat6 = Annotated[tuple[tuple[float, ...], ...], _matrix(6)]
+Name = Annotated[str, Strict(), Field(min_length=1)]
+
+ZERO3 = (0.0, 0.0, 0.0)
+
+
+class Spec(BaseModel):
+    """Base of every schema model: frozen, unknown keys rejected, no NaN or infinity."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+class EnvironmentSpec(Spec):
+    """Fluid and gravity (paper appendix, "Environmental Parameters"); world frame, z down."""
+
+    density: Positive = 1000.0                    # rho [kg/m^3]
+    gravity: Vec3 = (0.0, 0.0, 9.81)              # a_g [m/s^2]
+    current: Vec3 = ZERO3                         # constant default current velocity [m/s]
+    fluid_acceleration: Vec3 = ZERO3              # a_f [m/s^2] (Eq. 7)
+
+
+class BuoyancySpec(Spec):
+    """Displaced fluid (Eqs. 7-8): its mass ``m_f`` [kg] and centre of buoyancy ``b`` [m, body frame]."""
+
+    mass: NonNegative
+    center: Vec3
+
+
+class _MatrixSpec(Spec):
+    """A symmetric matrix given either as its ``diagonal`` or as a full ``matrix``, about a stated point."""
+
+    diagonal: Any = None
+    matrix: Any = None
+
+    @model_validator(mode="after")
+    def _one_form(self) -> "_MatrixSpec":
+        if (self.diagonal is None) == (self.matrix is None):
+            found = "both" if self.diagonal is not None else "neither"
+            raise fail(f"expected exactly one of 'diagonal' or 'matrix', found {found}")
+        return self
+
+    @property
+    def form(self) -> str:
+        """``"diagonal"`` or ``"matrix"``: the key the values were given under."""
+        return "diagonal" if self.diagonal is not None else "matrix"
+
+    def value(self) -> np.ndarray:
+        """The matrix as given (about the point ``about``)."""
+        return np.diag(self.diagonal) if self.diagonal is not None else np.array(self.matrix, dtype=float)
+
+
+class VehicleInertiaSpec(_MatrixSpec):
+    """Vehicle rotational inertia [kg m^2], body axes, about its CoM or the body-frame origin."""
+
+    diagonal: Vec3 | None = None
+    matrix: Mat3 | None = None
+    about: Literal["com", "origin"]
+
+
+class LinkInertiaSpec(_MatrixSpec):
+    """Link rotational inertia [kg m^2], link axes, about its CoM or the joint (the link-frame origin)."""
+
+    diagonal: Vec3 | None = None
+    matrix: Mat3 | None = None
+    about: Literal["com", "joint"]
+
+
+def _symmetric_psd(A: np.ndarray, subpath: str, what: str) -> np.ndarray:
+    """Check ``A`` symmetric positive semi-definite (relative tolerance); return its eigenvalues, ascending."""
+    tol = RELATIVE_TOLERANCE * max(float(np.abs(A).max()), float(abs(np.trace(A))), 1e-300)
+    i, j = np.unravel_index(int(np.argmax(np.abs(A - A.T))), A.shape)
+    if abs(A[i, j] - A[j, i]) > tol:
+        raise fail(f"expected a symmetric {what}, found [{i}][{j}] = {A[i, j]:.6g} but [{j}][{i}] = {A[j, i]:.6g}",
+                   subpath)
+    eig = np.linalg.eigvalsh(0.5 * (A + A.T))
+    if eig[0] < -tol:
+        raise fail(f"expected a positive semi-definite {what}, found eigenvalues "
+                   f"[{', '.join(f'{e:.6g}' for e in eig)}]", subpath)
+    return eig
+
+
+class _AddedMassSpec(_MatrixSpec):
+    """Added mass ``I_A`` (Eq. 2), 6x6 ``[angular; linear]`` in body axes [kg, kg m, kg m^2]."""
+
+    diagonal: Vec6 | None = None
+    matrix: Mat6 | None = None
+
+    @model_validator(mode="after")
+    def _physical(self) -> "_AddedMassSpec":
+        _symmetric_psd(self.value(), self.form, "added-mass matrix")
+        return self
+
+
+class VehicleAddedMassSpec(_AddedMassSpec):
+    """Vehicle added mass, about its CoM or the body-frame origin."""
+
+    about: Literal["origin", "com"]
+
+
+class LinkAddedMassSpec(_AddedMassSpec):
+    """Link added mass, about the joint (link-frame origin) or the CoM."""
+
+    about: Literal["joint", "com"]
+
+
+def _added_mass_kind(value: Any) -> str:
+    return "mapping" if isinstance(value, dict) else "string"
+
+
+def _from_geometry(value: Any) -> Any:
+    if value != "from_geometry":
+        raise fail("expected 'from_geometry' or a mapping with 'diagonal' or 'matrix' and 'about', "
+                   f"found {show(value)}")
+    return value
+
+
+UNION_TAGS = ("string", "mapping")
+"""Tags of tagged unions; :func:`uvms.model.load.format_validation_error` leaves them out of field paths."""
+
+LinkAddedMass = Annotated[
+    Annotated[Literal["from_geometry"], BeforeValidator(_from_geometry), Tag("string")] | Annotated[LinkAddedMassSpec, Tag("mapping")],
+    Discriminator(_added_mass_kind),
+]
+
+
+def inertia_com(mass: float, com: tuple[float, float, float], inertia: _MatrixSpec) -> np.ndarray:
+    """Rotational inertia about the CoM [kg m^2] (parallel-axis shift when given about the origin/joint)."""
+    I = inertia.value()
+    return I if inertia.about == "com" else inertia_about_com(mass, np.array(com), I)
+
+
+def check_rotational_inertia(I_com: np.ndarray, subpath: str = "") -> None:
+    """Symmetric PSD and the triangle inequality ``I1 + I2 >= I3`` on the principal moments about the CoM."""
+    moments = _symmetric_psd(I_com, subpath, "rotational inertia about the centre of mass")
+    tol = RELATIVE_TOLERANCE * max(float(np.sum(np.abs(moments))), 1e-300)
+    if moments[0] + moments[1] < moments[2] - tol:
+        raise fail("expected principal moments about the centre of mass with I1 + I2 >= I3 (triangle "
+                   f"inequality), found [{', '.join(f'{m:.6g}' for m in moments)}]", subpath)
+
+
+class _BodySpec(Spec):
+    """Mass properties shared by the vehicle and the links."""
+
+    mass: Positive                                # [kg]
+    com: Vec3                                     # centre of mass, body frame [m]
+
+    @field_validator("inertia", check_fields=False)
+    @classmethod
+    def _physical_inertia(cls, inertia: _MatrixSpec, info: ValidationInfo) -> _MatrixSpec:
+        if "mass" in info.data and "com" in info.data:  # otherwise their own error is reported
+            check_rotational_inertia(inertia_com(info.data["mass"], info.data["com"], inertia), inertia.form)
+        return inertia
+
+
+class RotationalDragSpec(Spec):
+    """Strip-integrated rotational drag of a cube of side ``a`` (Eq. 4): ``M_j = -(rho Cd a^5/32) w_j |w_j|``."""
+
+    side: NonNegative                             # a [m]
+    coefficient: NonNegative                      # Cd [-]
+
+
+class VehicleDragSpec(Spec):
+    """Vehicle quadratic drag (Eqs. 3-5)."""
+
+    area: NonNegativeVec3                         # A_j per body axis [m^2]
+    coefficient: NonNegativeVec3                  # Cd_j per body axis [-]
+    rotational: RotationalDragSpec
+
+
+class VehicleSpec(_BodySpec):
+    """The vehicle (body 0; paper appendix, "URV Parameters")."""
+
+    inertia: VehicleInertiaSpec
+    buoyancy: BuoyancySpec
+    added_mass: VehicleAddedMassSpec
+    drag: VehicleDragSpec
+    box: NonNegativeVec3                          # box dimensions [m]
+
+
+class DHSpec(Spec):
+    """A modified Denavit-Hartenberg row (Craig): ``RotX(alpha_prev) TransX(a_prev) RotZ(theta) TransZ(d)``."""
+
+    alpha_prev: Number                            # [rad]
+    a_prev: Number                                # [m]
+    d: Number                                     # [m]
+    theta_offset: Number                          # [rad], added to the joint angle q
+
+
+class CylinderSpec(Spec):
+    """A link's cylinder along its x axis from the joint (Eq. 6)."""
+
+    radius: NonNegative                           # r [m]
+    length: NonNegative                           # L [m]
+
+
+class LinkSpec(_BodySpec):
+    """One arm link: body i, moved by revolute joint i (paper appendix, "Manipulator Parameters")."""
+
+    name: Name
+    dh: DHSpec
+    inertia: LinkInertiaSpec
+    cylinder: CylinderSpec
+    drag_coefficient: NonNegative                 # normal-flow Cd [-] (Eq. 6)
+    buoyancy: BuoyancySpec
+    added_mass: LinkAddedMass                     # or "from_geometry" (strip theory for the cylinder)
+
+
+class MountSpec(Spec):
+    """Pose of DH frame 0 in the vehicle frame; rotation ``Rz(yaw) Ry(pitch) Rx(roll)``."""
+
+    position: Vec3 = ZERO3                        # [m]
+    rotation_rpy: Vec3 = ZERO3                    # (roll, pitch, yaw) [rad]
+
+
+class EndEffectorSpec(Spec):
+    """End-effector frame in the last link frame, as a modified-DH row (``theta_offset`` is its angle)."""
+
+    dh: DHSpec
+
+
+class ArmSpec(Spec):
+    """A serial arm of revolute joints."""
+
+    mount: MountSpec = MountSpec()
+    links: tuple[LinkSpec, ...]
+    end_effector: EndEffectorSpec = EndEffectorSpec(dh=DHSpec(alpha_prev=0.0, a_prev=0.0, d=0.0, theta_offset=0.0))
+
+    @field_validator("links")
+    @classmethod
+    def _links(cls, links: tuple[LinkSpec, ...]) -> tuple[LinkSpec, ...]:
+        if not links:
+            raise fail("expected at least one link, found none (leave 'arm' out for a vehicle without an arm)")
+        _unique([link.name for link in links], "link")
+        return links
+
+
+class ThrusterSpec(Spec):
+    """A thruster (validated loosely for now; Eqs. 9-12)."""
+
+    name: Name
+    position: Vec3                                # r_h, body frame [m]
+    direction: Vec3                               # e_h, body frame (non-zero; normalised when used)
+    model: Literal["healey", "first_order", "ideal"]
+    parameters: dict[str, Number] | None = None
+    max_thrust: Positive | None = None            # [N]
+
+    @field_validator("direction")
+    @classmethod
+    def _nonzero(cls, direction: tuple[float, float, float]) -> tuple[float, float, float]:
+        if not any(direction):
+            raise fail(f"expected a non-zero direction vector, found {show(list(direction))}")
+        return direction
+
+
+def _unique(names: list[str], what: str) -> None:
+    seen = [n for i, n in enumerate(names) if n in names[:i]]
+    if seen:
+        raise fail(f"expected unique {what} names, found {seen[0]!r} twice")
+
+
+class ModelSpec(Spec):
+    """A whole model file: environment, vehicle, optional arm and thrusters."""
+
+    name: Name
+    description: str | None = None
+    environment: EnvironmentSpec = EnvironmentSpec()
+    vehicle: VehicleSpec
+    arm: ArmSpec | None = None
+    thrusters: tuple[ThrusterSpec, ...] = ()
+
+    @field_validator("thrusters")
+    @classmethod
+    def _thrusters(cls, thrusters: tuple[ThrusterSpec, ...]) -> tuple[ThrusterSpec, ...]:
+        _unique([t.name for t in thrusters], "thruster")
+        return thrusters

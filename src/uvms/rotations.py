@@ -1,0 +1,90 @@
+"""Orientation: ZYX Euler angles, rotation matrices and unit quaternions.
+
+Conventions (``shared/conventions.md``): world frame x north, y east, z down; ``R`` is the rotation from
+body to world, ``R = Rz(psi) Ry(theta) Rx(phi)`` (the paper's Eq. 1 ``T1``). Quaternions are ``[w, x, y, z]``
+(scalar first), unit norm, with ``R(q)`` the same body-to-world rotation. The orientation is integrated as a
+quaternion: Eq. 1's Euler-rate map ``T2`` is singular at ``theta = +/-90 deg``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from uvms.spatial import rotx, roty, rotz
+
+
+def rotation_from_euler(euler: np.ndarray) -> np.ndarray:
+    """``R = Rz(psi) Ry(theta) Rx(phi)`` from ``euler = (phi, theta, psi)`` [rad] (paper Eq. 1, ``T1``)."""
+    phi, theta, psi = euler
+    return rotz(psi) @ roty(theta) @ rotx(phi)
+
+
+def euler_from_rotation(R: np.ndarray) -> np.ndarray:
+    """ZYX Euler angles ``(phi, theta, psi)`` of ``R``; ``theta`` in [-pi/2, pi/2], others in (-pi, pi]."""
+    theta = -np.arcsin(np.clip(R[2, 0], -1.0, 1.0))
+    phi = np.arctan2(R[2, 1], R[2, 2])
+    psi = np.arctan2(R[1, 0], R[0, 0])
+    return np.array([phi, theta, psi])
+
+
+def quaternion_from_rotation(R: np.ndarray) -> np.ndarray:
+    """Unit quaternion ``[w, x, y, z]`` with ``w >= 0`` of a rotation matrix (Shepperd's method)."""
+    t = np.trace(R)
+    if t > max(R[0, 0], R[1, 1], R[2, 2]):
+        w = 0.5 * np.sqrt(1.0 + t)
+        q = np.array([w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)])
+    else:
+        i = int(np.argmax([R[0, 0], R[1, 1], R[2, 2]]))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = np.sqrt(max(1.0 + R[i, i] - R[j, j] - R[k, k], 0.0))
+        v = np.zeros(3)
+        v[i] = 0.5 * s
+        v[j] = (R[j, i] + R[i, j]) / (2 * s)
+        v[k] = (R[k, i] + R[i, k]) / (2 * s)
+        q = np.array([(R[k, j] - R[j, k]) / (2 * s), *v])
+    q = q / np.linalg.norm(q)
+    return q if q[0] >= 0 else -q
+
+
+def rotation_from_quaternion(q: np.ndarray) -> np.ndarray:
+    """Body-to-world rotation matrix of a quaternion ``[w, x, y, z]`` (normalised first)."""
+    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def quaternion_from_euler(euler: np.ndarray) -> np.ndarray:
+    """Unit quaternion of ZYX Euler angles ``(phi, theta, psi)``."""
+    return quaternion_from_rotation(rotation_from_euler(euler))
+
+
+def euler_from_quaternion(q: np.ndarray) -> np.ndarray:
+    """ZYX Euler angles ``(phi, theta, psi)`` of a quaternion."""
+    return euler_from_rotation(rotation_from_quaternion(q))
+
+
+def quaternion_rate(q: np.ndarray, omega: np.ndarray) -> np.ndarray:
+    """``q_dot = 0.5 q (x) [0, omega]`` for body-frame angular velocity ``omega`` (replaces Eq. 1's ``T2``)."""
+    w, x, y, z = q
+    p, qq, r = omega
+    return 0.5 * np.array([
+        -x * p - y * qq - z * r,
+        w * p + y * r - z * qq,
+        w * qq + z * p - x * r,
+        w * r + x * qq - y * p,
+    ])
+
+
+def euler_rate_matrix(euler: np.ndarray) -> np.ndarray:
+    """The paper's ``T2`` (Eq. 1): ``euler_dot = T2 omega``; singular at ``theta = +/-pi/2``."""
+    phi, theta, _ = euler
+    sp, cp, ct, tt = np.sin(phi), np.cos(phi), np.cos(theta), np.tan(theta)
+    return np.array([[1.0, sp * tt, cp * tt], [0.0, cp, -sp], [0.0, sp / ct, cp / ct]])
+
+
+def wrap_angle(angle):
+    """Wrap an angle (or array) to (-pi, pi]."""
+    return -((-np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi)

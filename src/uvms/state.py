@@ -1,0 +1,97 @@
+"""The simulation state: exactly what is integrated, nothing derived (MuJoCo's ``qpos, qvel, act``).
+
+``position`` (3, world, m), ``quaternion`` (4, ``[w, x, y, z]``, body to world), ``nu`` (6, body velocity
+``[omega; v]``, rad/s and m/s), ``q`` and ``qd`` (n, joint angles and rates, rad and rad/s) and
+``actuator`` (thruster states when the thrusters have dynamics, e.g. Healey's ``[Omega_h..., U_h...]``).
+Euler angles and the rotation matrix are derived on request.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from uvms.rotations import euler_from_quaternion, quaternion_from_euler, rotation_from_quaternion
+
+
+def _vector(value, size: int, name: str) -> np.ndarray:
+    a = np.array(value if value is not None else np.zeros(size), dtype=float).reshape(-1)
+    if a.shape != (size,):
+        raise ValueError(f"state.{name}: expected {size} values, got {a.size}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"state.{name}: values must be finite")
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class State:
+    """Vehicle pose and velocity, joint angles and rates, actuator states (frozen)."""
+
+    position: np.ndarray
+    quaternion: np.ndarray
+    nu: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    actuator: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __post_init__(self) -> None:
+        n = np.asarray(self.q).size
+        object.__setattr__(self, "position", _vector(self.position, 3, "position"))
+        quat = _vector(self.quaternion, 4, "quaternion")
+        norm = np.linalg.norm(quat)
+        if not 0.5 < norm < 2.0:
+            raise ValueError("state.quaternion: expected a unit quaternion [w, x, y, z]")
+        quat = quat / norm
+        quat.setflags(write=False)
+        object.__setattr__(self, "quaternion", quat)
+        object.__setattr__(self, "nu", _vector(self.nu, 6, "nu"))
+        object.__setattr__(self, "q", _vector(self.q, n, "q"))
+        object.__setattr__(self, "qd", _vector(self.qd, n, "qd"))
+        object.__setattr__(self, "actuator", _vector(self.actuator, np.asarray(self.actuator).size, "actuator"))
+
+    @classmethod
+    def from_euler(cls, model, *, position=None, euler=None, nu=None, q=None, qd=None, actuator=None) -> "State":
+        """A state from ZYX Euler angles ``(phi, theta, psi)`` [rad]; omitted values are zero."""
+        n = model.n_joints
+        euler = _vector(euler, 3, "euler")
+        return cls(
+            position=_vector(position, 3, "position"),
+            quaternion=quaternion_from_euler(euler),
+            nu=_vector(nu, 6, "nu"),
+            q=_vector(q, n, "q"),
+            qd=_vector(qd, n, "qd"),
+            actuator=np.zeros(0) if actuator is None else np.asarray(actuator, dtype=float),
+        )
+
+    @classmethod
+    def zero(cls, model) -> "State":
+        """The vehicle at the world origin, level, at rest, joints at zero."""
+        return cls.from_euler(model)
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """3x3 body-to-world rotation ``R``."""
+        return rotation_from_quaternion(self.quaternion)
+
+    @property
+    def euler(self) -> np.ndarray:
+        """ZYX Euler angles ``(phi, theta, psi)`` [rad] (reported, never integrated)."""
+        return euler_from_quaternion(self.quaternion)
+
+    @property
+    def n_joints(self) -> int:
+        return int(self.q.size)
+
+    @property
+    def generalized_velocity(self) -> np.ndarray:
+        """``[nu; qd]`` (6 + n)."""
+        return np.concatenate([self.nu, self.qd])
+
+    def replace(self, **changes) -> "State":
+        """A new state with some fields changed."""
+        values = dict(position=self.position, quaternion=self.quaternion, nu=self.nu, q=self.q, qd=self.qd,
+                      actuator=self.actuator)
+        values.update(changes)
+        return State(**values)
