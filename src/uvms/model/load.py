@@ -16,6 +16,7 @@ from typing import Any
 
 import yaml
 from pydantic import BaseModel, ValidationError
+from pydantic_core import ErrorDetails
 
 from uvms.errors import UvmsInputError
 from uvms.model.build import build_model
@@ -69,17 +70,18 @@ def _allowed_keys(schema: type[BaseModel], loc: tuple[Any, ...]) -> list[str]:
     models: list[Any] = [schema]
     for part in loc[:-1]:
         if isinstance(part, str):
-            models = [leaf for m in models if part in m.model_fields for leaf in _leaves(m.model_fields[part].annotation)]
+            fields = [m.model_fields[part] for m in models if part in m.model_fields]
+            models = [leaf for f in fields for leaf in _leaves(f.annotation)]
     return sorted(models[0].model_fields) if models else []
 
 
-def _describe(error: dict[str, Any], schema: type[BaseModel] | None) -> str:
+def _describe(error: ErrorDetails, schema: type[BaseModel] | None) -> str:
     """What was expected and what was found, for one pydantic error."""
     kind, ctx, found = error["type"], error.get("ctx", {}), show(error.get("input"))
     if kind == "uvms":
         return ctx["message"]
     if kind == "missing":
-        return "required field is missing"
+        return "expected a value (required field), found none"
     if kind == "extra_forbidden":
         allowed = _allowed_keys(schema, error["loc"]) if schema is not None else []
         return "unknown key" + (f"; expected one of: {', '.join(allowed)}" if allowed else "")
@@ -105,7 +107,7 @@ def _describe(error: dict[str, Any], schema: type[BaseModel] | None) -> str:
     return f"{message[:1].lower()}{message[1:]}, found {found}"
 
 
-def _field_path(error: dict[str, Any]) -> str:
+def _field_path(error: ErrorDetails) -> str:
     """Dotted path such as ``arm.links[1].inertia.diagonal`` (union tags left out)."""
     loc = [part for part in error["loc"] if part not in UNION_TAGS]
     subpath = error.get("ctx", {}).get("subpath") if error["type"] == "uvms" else None

@@ -13,8 +13,18 @@ import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import (BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Strict, Tag, ValidationInfo,
-                      field_validator, model_validator)
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Strict,
+    Tag,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 from pydantic_core import PydanticCustomError
 
 from uvms.spatial import inertia_about_com
@@ -104,9 +114,10 @@ class _MatrixSpec(Spec):
 
     diagonal: Any = None
     matrix: Any = None
+    about: str
 
     @model_validator(mode="after")
-    def _one_form(self) -> "_MatrixSpec":
+    def _one_form(self) -> _MatrixSpec:
         if (self.diagonal is None) == (self.matrix is None):
             found = "both" if self.diagonal is not None else "neither"
             raise fail(f"expected exactly one of 'diagonal' or 'matrix', found {found}")
@@ -159,7 +170,7 @@ class _AddedMassSpec(_MatrixSpec):
     matrix: Mat6 | None = None
 
     @model_validator(mode="after")
-    def _physical(self) -> "_AddedMassSpec":
+    def _physical(self) -> _AddedMassSpec:
         _symmetric_psd(self.value(), self.form, "added-mass matrix")
         return self
 
@@ -191,7 +202,8 @@ UNION_TAGS = ("string", "mapping")
 """Tags of tagged unions; :func:`uvms.model.load.format_validation_error` leaves them out of field paths."""
 
 LinkAddedMass = Annotated[
-    Annotated[Literal["from_geometry"], BeforeValidator(_from_geometry), Tag("string")] | Annotated[LinkAddedMassSpec, Tag("mapping")],
+    Annotated[Literal["from_geometry"], BeforeValidator(_from_geometry), Tag("string")]
+    | Annotated[LinkAddedMassSpec, Tag("mapping")],
     Discriminator(_added_mass_kind),
 ]
 

@@ -1,0 +1,566 @@
+"""Speed of the uvms dynamics against Pinocchio and MuJoCo, and ABA against CRBA + solve as chains grow.
+
+Run ``python benchmarks/bench_dynamics.py [--json FILE] [--repeats 20] [--calls 2000] [--only NAME ...]``.
+Every figure is the median over ``repeats`` batches of ``calls`` calls, in microseconds per call.
+
+Sections (each a function returning a :class:`Section`; add new ones to ``BENCHMARKS``):
+
+* ``python``: ``uvms.forward_dynamics`` called from Python (rigid and hydrodynamic paper model).
+* ``compiled``: the ``aba`` kernel called in a loop inside an ``@njit`` function (per evaluation).
+* ``pinocchio``: ``pinocchio.aba`` from Python on the same rigid model (skipped without ``pin``).
+* ``mujoco``: an MJCF of the same bodies with MuJoCo's ellipsoid fluid model: ``mj_step`` (RK4) and
+  ``mj_forward`` (skipped without ``mujoco``).
+* ``scaling``: ``aba`` against ``crba`` + ``rnea`` (bias at zero acceleration) + a dense solve, compiled, on
+  random hydrodynamic chains of 3 to 48 links.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import statistics
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Callable
+
+import numpy as np
+from numba import njit
+
+import uvms
+from uvms.dynamics.aba import aba
+from uvms.dynamics.crba import crba
+from uvms.dynamics.kernel_model import make_workspace
+from uvms.dynamics.rnea import rnea
+from uvms.model.model import Model
+from uvms.rotations import quaternion_from_rotation, rotation_from_euler
+from uvms.spatial import modified_dh_pose, rotz
+
+SCALING_LINKS = (3, 6, 12, 24, 48)
+MIN_INERTIA = 1e-9      # floor on principal inertias for MuJoCo (the paper's links have Ixx = 0) [kg m^2]
+
+
+@dataclass
+class Settings:
+    repeats: int = 20
+    calls: int = 2000
+
+
+@dataclass
+class Section:
+    """One printed table: ``rows`` of values under ``columns``; ``figures`` are the named numbers for JSON."""
+
+    key: str
+    title: str
+    columns: list[str]
+    rows: list[list] = field(default_factory=list)
+    figures: dict[str, float] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+
+# -- timing ---------------------------------------------------------------------------------------------------
+
+def median_us(batch: Callable[[int], object], settings: Settings, calls: int | None = None) -> float:
+    """Median over ``settings.repeats`` of the time of ``batch(calls)`` divided by ``calls`` [us per call]."""
+    calls = settings.calls if calls is None else calls
+    batch(min(calls, 10))                                   # warm-up (compilation, caches)
+    times = []
+    for _ in range(settings.repeats):
+        t0 = time.perf_counter()
+        batch(calls)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times) / calls * 1e6
+
+
+@njit(cache=True)
+def aba_loop(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd, calls):
+    """``calls`` evaluations of the articulated-body algorithm (what a compiled integrator does)."""
+    for _ in range(calls):
+        aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd)
+
+
+@njit(cache=True)
+def cholesky_solve(A, b, L, x):
+    """``x = A^-1 b`` for a symmetric positive-definite ``A`` by a dense Cholesky factor ``L`` (no allocation)."""
+    n = A.shape[0]
+    for j in range(n):
+        s = A[j, j]
+        for k in range(j):
+            s -= L[j, k] * L[j, k]
+        d = np.sqrt(s)
+        L[j, j] = d
+        for i in range(j + 1, n):
+            s = A[i, j]
+            for k in range(j):
+                s -= L[i, k] * L[j, k]
+            L[i, j] = s / d
+    for i in range(n):                      # L y = b
+        s = b[i]
+        for k in range(i):
+            s -= L[i, k] * x[k]
+        x[i] = s / L[i, i]
+    for i in range(n - 1, -1, -1):          # L^T x = y
+        s = x[i]
+        for k in range(i + 1, n):
+            s -= L[k, i] * x[k]
+        x[i] = s / L[i, i]
+
+
+@njit(cache=True)
+def crba_solve_once(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+                    h0, h_tau, use_lapack):
+    """``M(q) [nu_dot; qdd] = [f_body; tau] - h`` with ``M`` from CRBA and ``h`` from RNEA at zero acceleration."""
+    n = q.shape[0]
+    crba(km, ws, q, M)
+    rnea(km, ws, R0, nu, q, qd, zero6, zero_n, f_ee, v_current, a_fluid, h0, h_tau)
+    for k in range(6):
+        rhs[k] = f_body[k] - h0[k]
+    for k in range(n):
+        rhs[6 + k] = tau[k] - h_tau[k]
+    if use_lapack:
+        y = np.linalg.solve(M, rhs)
+        for k in range(6 + n):
+            x[k] = y[k]
+    else:
+        cholesky_solve(M, rhs, L, x)
+
+
+@njit(cache=True)
+def crba_solve_loop(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+                    h0, h_tau, use_lapack, calls):
+    for _ in range(calls):
+        crba_solve_once(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+                        h0, h_tau, use_lapack)
+
+
+class KernelInputs:
+    """Contiguous float64 arrays for the kernels at one representative state of ``model``."""
+
+    def __init__(self, model: Model, seed: int = 7):
+        rng = np.random.default_rng(seed)
+        n = model.n_joints
+        self.model = model
+        self.km = model.kernel
+        self.ws = make_workspace(model.n_bodies)
+        self.state = uvms.State.from_euler(model, position=[1.0, -2.0, 5.0], euler=[0.2, -0.3, 1.0],
+                                           nu=rng.normal(scale=0.3, size=6), q=rng.uniform(-1.5, 1.5, n),
+                                           qd=rng.normal(scale=0.5, size=n))
+        self.R0 = np.ascontiguousarray(self.state.rotation)
+        self.nu = np.array(self.state.nu)
+        self.q = np.array(self.state.q)
+        self.qd = np.array(self.state.qd)
+        self.tau = rng.normal(scale=0.5, size=n)
+        self.f_body = rng.normal(scale=5.0, size=6)
+        self.f_ee = np.zeros(6)
+        self.v_current = np.array(model.current, dtype=float)
+        self.a_fluid = np.array(model.fluid_acceleration, dtype=float)
+        self.nu_dot = np.zeros(6)
+        self.qdd = np.zeros(n)
+
+    def aba_batch(self, calls: int) -> None:
+        aba_loop(self.km, self.ws, self.R0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
+                 self.v_current, self.a_fluid, False, self.nu_dot, self.qdd, calls)
+
+    def crba_batch(self, use_lapack: bool) -> Callable[[int], None]:
+        nd = self.model.n_dof
+        M, L = np.zeros((nd, nd)), np.zeros((nd, nd))
+        self.rhs, self.x = np.zeros(nd), np.zeros(nd)
+        zero6, zero_n, h0, h_tau = np.zeros(6), np.zeros(nd - 6), np.zeros(6), np.zeros(nd - 6)
+
+        def batch(calls: int) -> None:
+            crba_solve_loop(self.km, self.ws, self.R0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
+                            self.v_current, self.a_fluid, M, L, self.rhs, self.x, zero6, zero_n, h0, h_tau,
+                            use_lapack, calls)
+        return batch
+
+
+# -- models ---------------------------------------------------------------------------------------------------
+
+def paper_models() -> tuple[Model, Model]:
+    """The paper model with every effect (hydrodynamic) and its rigid part (gravity kept)."""
+    hydro = uvms.load_model("paper")
+    return hydro, hydro.with_effects(added_mass=False, drag=False, buoyancy=False)
+
+
+def random_chain(rng: np.random.Generator, n: int, *, hydro: bool = True) -> Model:
+    """A vehicle with an n-link chain of random modified-DH rows, masses and full inertias (benchmark only)."""
+    nb = n + 1
+
+    def inertia(mass: float, size: float) -> np.ndarray:
+        d = rng.uniform(0.2, 1.0, 3) * size
+        R = rotation_from_euler(rng.uniform(-np.pi, np.pi, 3))
+        return R @ np.diag(mass / 12 * np.array([d[1]**2 + d[2]**2, d[0]**2 + d[2]**2, d[0]**2 + d[1]**2])) @ R.T
+
+    def spd6(ang: float, lin: float) -> np.ndarray:
+        A = rng.normal(size=(6, 6))
+        D = np.diag([ang] * 3 + [lin] * 3) ** 0.5
+        return D @ (A @ A.T / 6 + 0.1 * np.eye(6)) @ D
+
+    mass = np.concatenate([[32.0], rng.uniform(0.3, 3.0, n)])
+    com = np.vstack([np.zeros(3), rng.normal(scale=0.1, size=(n, 3))])
+    rows = [modified_dh_pose(rng.uniform(-np.pi, np.pi), rng.uniform(-0.3, 0.3), rng.uniform(-0.2, 0.2), 0.0)
+            for _ in range(n)]
+    h = 1.0 if hydro else 0.0
+    return Model(
+        name=f"chain{n}", source=None, body_names=tuple(f"b{i}" for i in range(nb)),
+        mass=mass, com=com, inertia_com=np.stack([inertia(mass[0], 0.6)] + [inertia(m, 0.3) for m in mass[1:]]),
+        added_mass=np.stack([spd6(2.0, 20.0)] + [spd6(0.002, 0.1) for _ in range(n)]) * h,
+        buoyancy_mass=mass * h, cob=com + rng.normal(scale=0.02, size=(nb, 3)),
+        vehicle_drag_area=np.full(3, 0.061), vehicle_drag_coefficient=np.full(3, 1.07) * h,
+        vehicle_rotational_drag_side=0.596, vehicle_rotational_drag_coefficient=1.07 * h,
+        vehicle_box=np.full(3, 0.596), link_radius=np.full(n, 0.0125), link_length=rng.uniform(0.1, 0.3, n),
+        link_drag_coefficient=np.full(n, 1.0) * h,
+        joint_rotation=np.stack([R for R, _ in rows]), joint_position=np.stack([p for _, p in rows]),
+        theta_offset=rng.uniform(-1, 1, n), ee_rotation=np.eye(3), ee_position=np.array([0.2, 0.0, 0.0]),
+        density=1000.0, gravity=np.array([0.0, 0.0, 9.81]), current=np.zeros(3), fluid_acceleration=np.zeros(3),
+    )
+
+
+# -- sections -------------------------------------------------------------------------------------------------
+
+def bench_python(settings: Settings) -> Section:
+    """(a) ``uvms.forward_dynamics`` from Python (argument checks, workspace allocation and the kernel)."""
+    sec = Section("python", "uvms.forward_dynamics from Python, paper model", ["model", "us/call", "ratio"])
+    hydro, rigid = paper_models()
+    for name, model in (("rigid", rigid), ("hydrodynamic", hydro)):
+        inp = KernelInputs(model)
+
+        def batch(calls: int, model=model, inp=inp) -> None:
+            for _ in range(calls):
+                uvms.forward_dynamics(model, inp.state, joint_torques=inp.tau, body_wrench=inp.f_body)
+        sec.figures[f"forward_dynamics_{name}_us"] = median_us(batch, settings)
+    r, h = sec.figures["forward_dynamics_rigid_us"], sec.figures["forward_dynamics_hydrodynamic_us"]
+    sec.rows = [["rigid", r, 1.0], ["hydrodynamic", h, h / r]]
+    return sec
+
+
+def bench_compiled(settings: Settings) -> Section:
+    """(b) the compiled ``aba`` kernel in an ``@njit`` loop, rigid and hydrodynamic."""
+    sec = Section("compiled", "aba kernel in an @njit loop, paper model (per evaluation)", ["model", "us/call", "ratio"])
+    hydro, rigid = paper_models()
+    for name, model in (("rigid", rigid), ("hydrodynamic", hydro)):
+        sec.figures[f"aba_{name}_us"] = median_us(KernelInputs(model).aba_batch, settings)
+    r, h = sec.figures["aba_rigid_us"], sec.figures["aba_hydrodynamic_us"]
+    sec.figures["hydro_over_rigid"] = h / r
+    sec.rows = [["rigid", r, 1.0], ["hydrodynamic", h, h / r]]
+    return sec
+
+
+def bench_pinocchio(settings: Settings) -> Section:
+    """(c) ``pinocchio.aba`` from Python on the rigid paper model (free flyer)."""
+    sec = Section("pinocchio", "pinocchio.aba from Python, paper model, rigid", ["call", "us/call", "vs uvms"])
+    try:
+        import pinocchio as pin
+    except ImportError:
+        sec.notes.append("skipped: pinocchio (pip package 'pin') is not installed")
+        return sec
+    from uvms.interop.pinocchio_model import (body_wrench_force, generalized_from_pinocchio, pinocchio_configuration,
+                                              pinocchio_model_from, pinocchio_velocity)
+
+    _, rigid = paper_models()
+    inp = KernelInputs(rigid)
+    pm = pinocchio_model_from(rigid)
+    pd = pm.createData()
+    q, v = pinocchio_configuration(inp.state), pinocchio_velocity(inp.state)
+    tau = np.concatenate([np.zeros(6), inp.tau])
+    fext = pin.StdVec_Force()
+    for _ in range(pm.njoints):
+        fext.append(pin.Force.Zero())
+    fext[1] = body_wrench_force(inp.f_body)
+
+    def plain(calls: int) -> None:
+        for _ in range(calls):
+            pin.aba(pm, pd, q, v, tau)
+
+    def with_fext(calls: int) -> None:
+        for _ in range(calls):
+            pin.aba(pm, pd, q, v, tau, fext)
+
+    reference = uvms.forward_dynamics(rigid, inp.state, joint_torques=inp.tau, body_wrench=inp.f_body)
+    error = np.abs(generalized_from_pinocchio(pin.aba(pm, pd, q, v, tau, fext)) - reference.generalized).max()
+    uvms_python = median_us(lambda calls: [uvms.forward_dynamics(rigid, inp.state, joint_torques=inp.tau,
+                                                                 body_wrench=inp.f_body) for _ in range(calls)],
+                            settings)
+    uvms_compiled = median_us(inp.aba_batch, settings)
+    sec.figures["pinocchio_aba_us"] = median_us(plain, settings)
+    sec.figures["pinocchio_aba_fext_us"] = median_us(with_fext, settings)
+    sec.figures["uvms_forward_dynamics_rigid_us"] = uvms_python
+    sec.figures["uvms_aba_compiled_rigid_us"] = uvms_compiled
+    sec.figures["max_abs_difference"] = float(error)
+    p = sec.figures["pinocchio_aba_us"]
+    sec.rows = [
+        ["pinocchio.aba(q, v, tau)", p, "1.00"],
+        ["pinocchio.aba(q, v, tau, fext)", sec.figures["pinocchio_aba_fext_us"], ""],
+        ["uvms.forward_dynamics (Python)", uvms_python, f"{uvms_python / p:.2f}"],
+        ["uvms aba (compiled loop)", uvms_compiled, f"{uvms_compiled / p:.2f}"],
+    ]
+    sec.notes.append(f"same state, same result: max |uvms - pinocchio| = {error:.1e}")
+    return sec
+
+
+def mjcf_from(model: Model, *, fluid: bool = True, timestep: float = 0.001, integrator: str = "RK4") -> str:
+    """An MJCF of the bodies of ``model``: the vehicle as a free box, the links as cylinders on hinge joints
+    placed per the modified-DH rows; MuJoCo's ellipsoid fluid model when ``fluid``. Gravity is ``model.gravity``
+    (the uvms world frame, z down), so MuJoCo's buoyancy points up in that frame too."""
+
+    def inertial(i: int) -> str:
+        J = np.array(model.inertia_com[i], dtype=float) + MIN_INERTIA * np.eye(3)
+        c = model.com[i]
+        return (f'<inertial pos="{c[0]:.17g} {c[1]:.17g} {c[2]:.17g}" mass="{model.mass[i]:.17g}" '
+                f'fullinertia="{J[0, 0]:.17g} {J[1, 1]:.17g} {J[2, 2]:.17g} {J[0, 1]:.17g} {J[0, 2]:.17g} '
+                f'{J[1, 2]:.17g}"/>')
+
+    box = 0.5 * np.array(model.vehicle_box, dtype=float)
+    density = model.density if fluid else 0.0
+    g = model.gravity
+    lines = [
+        f'<mujoco model="{model.name}">',
+        f'  <option density="{density:g}" viscosity="0" integrator="{integrator}" timestep="{timestep:g}" '
+        f'gravity="{g[0]:g} {g[1]:g} {g[2]:g}"/>',
+        '  <default><geom contype="0" conaffinity="0" fluidshape="ellipsoid"/></default>',
+        '  <worldbody>',
+        '    <body name="vehicle">',
+        '      <freejoint name="vehicle"/>',
+        f'      {inertial(0)}',
+        f'      <geom type="box" size="{box[0]:g} {box[1]:g} {box[2]:g}"/>',
+    ]
+    indent = "      "
+    for i in range(model.n_joints):
+        R = np.array(model.joint_rotation[i], dtype=float) @ rotz(float(model.theta_offset[i]))
+        w, x, y, z = quaternion_from_rotation(R)
+        p = model.joint_position[i]
+        L, r = model.link_length[i], model.link_radius[i]
+        lines += [
+            f'{indent}<body name="link{i + 1}" pos="{p[0]:.17g} {p[1]:.17g} {p[2]:.17g}" '
+            f'quat="{w:.17g} {x:.17g} {y:.17g} {z:.17g}">',
+            f'{indent}  <joint name="joint{i + 1}" type="hinge" axis="0 0 1"/>',
+            f'{indent}  {inertial(i + 1)}',
+            f'{indent}  <geom type="cylinder" fromto="0 0 0 {L:g} 0 0" size="{r:g}"/>',
+        ]
+        indent += "  "
+    e = model.ee_position
+    lines.append(f'{indent}<site name="end_effector" pos="{e[0]:.17g} {e[1]:.17g} {e[2]:.17g}"/>')
+    for _ in range(model.n_joints):
+        indent = indent[:-2]
+        lines.append(f"{indent}</body>")
+    lines += ["    </body>", "  </worldbody>", "</mujoco>"]
+    return "\n".join(lines)
+
+
+def mujoco_rigid_check(mujoco, model: Model) -> float:
+    """Max |qacc difference| between MuJoCo (fluid off) and uvms on the rigid model with MuJoCo's inertia floor."""
+    rigid = model.with_effects(added_mass=False, drag=False, buoyancy=False)
+    rigid = rigid.replace(inertia_com=np.array(rigid.inertia_com) + MIN_INERTIA * np.eye(3))
+    mm = mujoco.MjModel.from_xml_string(mjcf_from(rigid, fluid=False))
+    md = mujoco.MjData(mm)
+    inp = KernelInputs(rigid)
+    s, R = inp.state, inp.R0
+    omega, v = s.nu[:3], s.nu[3:]
+    md.qpos[:] = np.concatenate([s.position, s.quaternion, s.q])
+    md.qvel[:] = np.concatenate([R @ v, omega, s.qd])          # free joint: world linear, local angular
+    md.qfrc_applied[:] = np.concatenate([np.zeros(6), inp.tau])
+    mujoco.mj_forward(mm, md)
+    acc = uvms.forward_dynamics(rigid, s, joint_torques=inp.tau)
+    classical = R @ (acc.nu_dot[3:] + np.cross(omega, v))       # world acceleration of the vehicle origin
+    expected = np.concatenate([classical, acc.nu_dot[:3], acc.qdd])
+    return float(np.abs(md.qacc - expected).max())
+
+
+def bench_mujoco(settings: Settings) -> Section:
+    """(d) MuJoCo on a matching MJCF with its ellipsoid fluid model: ``mj_step`` (RK4) and ``mj_forward``."""
+    sec = Section("mujoco", "MuJoCo, paper bodies, ellipsoid fluid model", ["call", "us/call", "ratio"])
+    try:
+        import mujoco
+    except ImportError:
+        sec.notes.append("skipped: mujoco is not installed")
+        return sec
+    hydro, _ = paper_models()
+    inp = KernelInputs(hydro)
+    s = inp.state
+    variants = {}
+    for fluid in (True, False):
+        mm = mujoco.MjModel.from_xml_string(mjcf_from(hydro, fluid=fluid))
+        md = mujoco.MjData(mm)
+        qpos = np.concatenate([s.position, s.quaternion, s.q])
+        qvel = np.concatenate([inp.R0 @ s.nu[3:], s.nu[:3], s.qd])
+        variants[fluid] = (mm, md, qpos, qvel)
+
+    def stepper(fluid: bool, fn):
+        mm, md, qpos, qvel = variants[fluid]
+
+        def batch(calls: int) -> None:
+            md.qpos[:], md.qvel[:] = qpos, qvel
+            md.qfrc_applied[:] = np.concatenate([np.zeros(6), inp.tau])
+            for _ in range(calls):
+                fn(mm, md)
+        return batch
+
+    f = sec.figures
+    f["mj_step_rk4_fluid_us"] = median_us(stepper(True, mujoco.mj_step), settings)
+    f["mj_forward_fluid_us"] = median_us(stepper(True, mujoco.mj_forward), settings)
+    f["mj_step_rk4_no_fluid_us"] = median_us(stepper(False, mujoco.mj_step), settings)
+    f["mj_forward_no_fluid_us"] = median_us(stepper(False, mujoco.mj_forward), settings)
+    f["uvms_aba_compiled_hydro_us"] = median_us(inp.aba_batch, settings)
+    f["rigid_check_max_abs_qacc_difference"] = mujoco_rigid_check(mujoco, hydro)
+    four = 4 * f["uvms_aba_compiled_hydro_us"]
+    sec.rows = [
+        ["mj_step, RK4, fluid", f["mj_step_rk4_fluid_us"], f["mj_step_rk4_fluid_us"] / four],
+        ["mj_forward, fluid", f["mj_forward_fluid_us"], f["mj_forward_fluid_us"] / f["uvms_aba_compiled_hydro_us"]],
+        ["mj_step, RK4, no fluid", f["mj_step_rk4_no_fluid_us"], f["mj_step_rk4_no_fluid_us"] / four],
+        ["mj_forward, no fluid", f["mj_forward_no_fluid_us"],
+         f["mj_forward_no_fluid_us"] / f["uvms_aba_compiled_hydro_us"]],
+        ["uvms aba hydro, compiled (x4 = RK4 step)", f["uvms_aba_compiled_hydro_us"], 1.0],
+    ]
+    sec.notes += [
+        "ratio: mj_step against 4 uvms hydrodynamic aba evaluations, mj_forward against one",
+        "MuJoCo called from a Python loop (includes ~0.1-0.3 us call overhead per call); "
+        "its fluid model is not the paper's hydrodynamics, so only the cost is comparable",
+        f"MJCF check (fluid off): max |qacc_mujoco - qacc_uvms| = {f['rigid_check_max_abs_qacc_difference']:.1e}",
+    ]
+    return sec
+
+
+def bench_scaling(settings: Settings) -> Section:
+    """(e) ABA against CRBA + RNEA + solve on random hydrodynamic chains, all compiled; Pinocchio for scale."""
+    try:
+        import pinocchio as pin
+        from uvms.interop.pinocchio_model import (pinocchio_configuration, pinocchio_model_from,
+                                                  pinocchio_velocity)
+    except ImportError:
+        pin = None
+    sec = Section("scaling", "ABA vs CRBA + RNEA + solve, random chains, compiled loops (us per evaluation)",
+                  ["links", "aba hydro", "aba rigid", "crba+rnea+chol", "crba+rnea+lapack", "pinocchio.aba rigid",
+                   "chol / aba", "lapack / aba"])
+    rng = np.random.default_rng(2026)
+    for n in SCALING_LINKS:
+        model = random_chain(rng, n, hydro=True)
+        rigid = model.with_effects(added_mass=False, drag=False, buoyancy=False)
+        inp = KernelInputs(model)
+        calls = settings.calls
+        t_aba = median_us(inp.aba_batch, settings, calls)
+        t_rigid = median_us(KernelInputs(rigid).aba_batch, settings, calls)
+        t_chol = median_us(inp.crba_batch(False), settings, calls)
+        x_chol = inp.x.copy()
+        t_lapack = median_us(inp.crba_batch(True), settings, calls)
+        inp.aba_batch(1)
+        disagreement = np.abs(x_chol - np.concatenate([inp.nu_dot, inp.qdd])).max()
+        if disagreement > 1e-8 * max(1.0, np.abs(x_chol).max()):
+            sec.notes.append(f"n={n}: ABA and CRBA+RNEA+solve disagree by {disagreement:.1e}")
+        t_pin = float("nan")
+        if pin is not None:
+            pm = pinocchio_model_from(rigid)
+            pd = pm.createData()
+            q, v = pinocchio_configuration(inp.state), pinocchio_velocity(inp.state)
+            tau = np.concatenate([np.zeros(6), inp.tau])
+            t_pin = median_us(lambda c: [pin.aba(pm, pd, q, v, tau) for _ in range(c)], settings, calls)
+        sec.rows.append([n, t_aba, t_rigid, t_chol, t_lapack, t_pin, t_chol / t_aba, t_lapack / t_aba])
+        sec.figures.update({f"aba_hydro_n{n}_us": t_aba, f"aba_rigid_n{n}_us": t_rigid,
+                            f"crba_rnea_cholesky_n{n}_us": t_chol, f"crba_rnea_lapack_n{n}_us": t_lapack,
+                            f"pinocchio_aba_rigid_n{n}_us": t_pin})
+    if pin is None:
+        sec.notes.append("pinocchio column skipped: pinocchio is not installed")
+    sec.notes.append("lapack = numpy.linalg.solve inside @njit (allocates); chol = dense Cholesky, no allocation; "
+                     "pinocchio.aba is called from Python")
+    return sec
+
+
+BENCHMARKS: dict[str, Callable[[Settings], Section]] = {
+    "python": bench_python,
+    "compiled": bench_compiled,
+    "pinocchio": bench_pinocchio,
+    "mujoco": bench_mujoco,
+    "scaling": bench_scaling,
+}
+
+
+# -- report ---------------------------------------------------------------------------------------------------
+
+def _cell(value) -> str:
+    if isinstance(value, float):
+        return "-" if np.isnan(value) else f"{value:.2f}"
+    return str(value)
+
+
+def print_section(sec: Section) -> None:
+    try:
+        from rich.console import Console
+        from rich.table import Table
+    except ImportError:
+        print(f"\n{sec.title}\n  " + " | ".join(sec.columns))
+        for row in sec.rows:
+            print("  " + " | ".join(_cell(v) for v in row))
+        for note in sec.notes:
+            print(f"  note: {note}")
+        return
+    table = Table(title=sec.title, title_justify="left")
+    for i, col in enumerate(sec.columns):
+        table.add_column(col, justify="left" if i == 0 else "right")
+    for row in sec.rows:
+        table.add_row(*(_cell(v) for v in row))
+    console = Console()
+    console.print(table)
+    for note in sec.notes:
+        console.print(f"  [dim]{note}[/dim]")
+
+
+def _json_safe(value):
+    """NaN (a skipped measurement) as ``null``; NumPy scalars as Python numbers."""
+    if isinstance(value, dict):
+        return {k: _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v) for v in value]
+    if isinstance(value, (float, np.floating)):
+        return None if np.isnan(value) else float(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+def versions() -> dict[str, str]:
+    import numba
+
+    out = {"python": platform.python_version(), "numpy": np.__version__, "numba": numba.__version__,
+           "uvms": uvms.__version__}
+    for module, name in (("pinocchio", "pinocchio"), ("mujoco", "mujoco")):
+        try:
+            out[name] = __import__(module).__version__
+        except ImportError:
+            out[name] = "missing"
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--json", metavar="FILE", help="also write the figures to FILE as JSON")
+    parser.add_argument("--repeats", type=int, default=Settings.repeats, help="batches per figure (median)")
+    parser.add_argument("--calls", type=int, default=Settings.calls, help="calls per batch")
+    parser.add_argument("--only", nargs="+", choices=sorted(BENCHMARKS), help="run only these sections")
+    args = parser.parse_args(argv)
+    settings = Settings(repeats=args.repeats, calls=args.calls)
+
+    t0 = time.perf_counter()
+    hydro, _ = paper_models()
+    uvms.forward_dynamics(hydro, uvms.State.zero(hydro))
+    first_call = time.perf_counter() - t0
+
+    sections = []
+    for name in args.only or list(BENCHMARKS):
+        sec = BENCHMARKS[name](settings)
+        print_section(sec)
+        sections.append(sec)
+    print(f"\nload model + first forward_dynamics call: {first_call:.2f} s; "
+          f"{settings.repeats} repeats x {settings.calls} calls, medians; {platform.processor() or platform.machine()}")
+
+    if args.json:
+        report = {"settings": asdict(settings), "versions": versions(), "platform": platform.platform(),
+                  "first_call_s": first_call,
+                  "sections": {s.key: {"title": s.title, "figures": s.figures, "columns": s.columns, "rows": s.rows,
+                                       "notes": s.notes} for s in sections}}
+        with open(args.json, "w") as fh:
+            json.dump(_json_safe(report), fh, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

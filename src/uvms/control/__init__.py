@@ -1,0 +1,1 @@
+"""Station-keeping controllers (paper Section 5) and arm commands; chosen by name from a registry."""

@@ -1,0 +1,59 @@
+"""What a vehicle controller sees and returns (the interface every controller implements).
+
+A controller runs at its own rate (``period``, zero-order hold in between). At each update it receives a
+:class:`Measurement` (time, the measured state, the joint torques being applied, and the vehicle's true body
+acceleration for sensor models such as a simulated IMU to corrupt) and returns a :class:`ControlOutput`: the
+commanded body wrench ``f_0 = [moment; force]`` (body axes; allocated to thrusters afterwards) and named
+scalar signals to log (``s_surge``, ``Phi``, ...).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import numpy as np
+
+from uvms.state import State
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """What the controller can use at an update.
+
+    Attributes:
+        time: [s].
+        state: vehicle pose and velocity, joint angles and rates (perfect measurement).
+        joint_torques: (n,) torques applied at the joints over the coming interval [N m].
+        nu_dot: (6,) the vehicle's true body acceleration ``[omega_dot; v_dot]`` at this instant (for IMU
+            models; an honest controller never uses it directly).
+    """
+
+    time: float
+    state: State
+    joint_torques: np.ndarray
+    nu_dot: np.ndarray
+
+
+@dataclass(frozen=True)
+class ControlOutput:
+    """A controller's command: body wrench (6,) ``[moment; force]`` [N m, N] and logged signals."""
+
+    wrench: np.ndarray
+    signals: dict[str, float] = field(default_factory=dict)
+
+
+class Controller(Protocol):
+    """A vehicle controller: ``period`` [s] and ``update(measurement) -> ControlOutput``; ``reset()`` before a run."""
+
+    period: float
+
+    def reset(self) -> None: ...
+
+    def update(self, measurement: Measurement) -> ControlOutput: ...
+
+
+class ArmCommand(Protocol):
+    """Joint torques as a function of time and state (a schedule, or a trajectory-tracking arm controller)."""
+
+    def torques(self, time: float, state: State) -> np.ndarray: ...

@@ -1,0 +1,1 @@
+"""Bridges to other rigid-body libraries, for cross-checks and benchmarks (optional dependencies)."""

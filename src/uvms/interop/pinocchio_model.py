@@ -1,0 +1,113 @@
+"""The rigid part of a :class:`~uvms.model.Model` as a Pinocchio model (tests and benchmarks only).
+
+Pinocchio has no hydrodynamics: added mass, drag, buoyancy and currents are ignored, so compare against
+``model.with_effects(added_mass=False, drag=False, buoyancy=False)``. ``pinocchio`` is imported inside the
+functions: it is a test/benchmark dependency, not a runtime one.
+
+Conventions that differ between the two libraries, converted here and nowhere else:
+
+==================  =====================================  ==========================================
+quantity            uvms                                   Pinocchio (free-flyer root)
+==================  =====================================  ==========================================
+configuration       ``position, quaternion [w,x,y,z], q``  ``[x, y, z, qx, qy, qz, qw, q...]``
+velocity            ``[omega; v]`` body axes, ``qd``       ``[v; omega]`` local frame, ``qd``
+acceleration        ``nu_dot = [alpha; a]`` (spatial)      ``ddq[:6] = [a; alpha]`` (spatial, local)
+wrench on vehicle   ``[moment; force]`` body axes          ``Force(linear, angular)`` on joint 1
+==================  =====================================  ==========================================
+
+Joint ``i`` (revolute about its frame's z axis) is placed at
+``SE3(joint_rotation[i] @ Rz(theta_offset[i]), joint_position[i])`` in its parent, so that the link frame is
+``placement * Rz(q_i)`` as in the modified-DH chain of :mod:`uvms.dynamics.passes`. The end effector is an
+operational frame named ``"end_effector"`` on the last joint. Gravity is ``model.gravity`` in the world frame.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from uvms.spatial import rotz
+
+END_EFFECTOR_FRAME = "end_effector"
+
+
+def pinocchio_model_from(model, *, fixed_base: bool = False, base_rotation=None, base_position=None):
+    """A ``pinocchio.Model`` of the rigid bodies of ``model``.
+
+    Args:
+        model: a uvms :class:`~uvms.model.Model`.
+        fixed_base: ``False``: a free-flyer root joint carries the vehicle (``nq = 7 + n``, ``nv = 6 + n``).
+            ``True``: the vehicle is welded to the world at ``(base_rotation, base_position)`` and only the
+            arm joints remain (``nq = nv = n``), as ``forward_dynamics(..., fixed_base=True)``.
+        base_rotation: (3, 3) vehicle orientation (body to world) for ``fixed_base``; identity by default.
+        base_position: (3,) vehicle position in the world for ``fixed_base`` [m]; zero by default.
+    """
+    import pinocchio as pin
+
+    pm = pin.Model()
+    pm.name = model.name
+    pm.gravity.linear = np.array(model.gravity, dtype=float)
+    vehicle_inertia = pin.Inertia(float(model.mass[0]), np.array(model.com[0], dtype=float),
+                                  np.array(model.inertia_com[0], dtype=float))
+    if fixed_base:
+        R0 = np.eye(3) if base_rotation is None else np.array(base_rotation, dtype=float)
+        p0 = np.zeros(3) if base_position is None else np.array(base_position, dtype=float)
+        base = pin.SE3(R0, p0)
+        parent = 0
+    else:
+        parent = pm.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), model.body_names[0])
+        pm.appendBodyToJoint(parent, vehicle_inertia, pin.SE3.Identity())
+        base = pin.SE3.Identity()
+    for i in range(model.n_joints):
+        R = np.array(model.joint_rotation[i], dtype=float) @ rotz(float(model.theta_offset[i]))
+        placement = pin.SE3(R, np.array(model.joint_position[i], dtype=float))
+        if i == 0:
+            placement = base * placement
+        parent = pm.addJoint(parent, pin.JointModelRZ(), placement, f"joint{i + 1}")
+        pm.appendBodyToJoint(parent, pin.Inertia(float(model.mass[i + 1]), np.array(model.com[i + 1], dtype=float),
+                                                 np.array(model.inertia_com[i + 1], dtype=float)),
+                             pin.SE3.Identity())
+    ee = pin.SE3(np.array(model.ee_rotation, dtype=float), np.array(model.ee_position, dtype=float))
+    if model.n_joints == 0:
+        ee = base * ee
+    pm.addFrame(pin.Frame(END_EFFECTOR_FRAME, parent, ee, pin.FrameType.OP_FRAME))
+    return pm
+
+
+def pinocchio_configuration(state, *, fixed_base: bool = False) -> np.ndarray:
+    """Pinocchio ``q``: ``[x, y, z, qx, qy, qz, qw, q...]`` (free flyer) or the joint angles (fixed base)."""
+    q = np.array(state.q, dtype=float)
+    if fixed_base:
+        return q
+    w, x, y, z = state.quaternion
+    return np.concatenate([state.position, [x, y, z, w], q])
+
+
+def pinocchio_velocity(state, *, fixed_base: bool = False) -> np.ndarray:
+    """Pinocchio ``v``: ``[v; omega; qd]`` (free flyer, local frame) or the joint rates (fixed base)."""
+    qd = np.array(state.qd, dtype=float)
+    if fixed_base:
+        return qd
+    return np.concatenate([state.nu[3:6], state.nu[0:3], qd])
+
+
+def generalized_from_pinocchio(x: np.ndarray, *, fixed_base: bool = False) -> np.ndarray:
+    """A Pinocchio velocity-space vector (``v``, ``ddq``, ``tau``) reordered to uvms ``[angular; linear; joints]``."""
+    x = np.asarray(x, dtype=float)
+    if fixed_base:
+        return x.copy()
+    return np.concatenate([x[3:6], x[0:3], x[6:]])
+
+
+def matrix_from_pinocchio(M: np.ndarray) -> np.ndarray:
+    """A free-flyer ``nv x nv`` matrix (e.g. ``crba``) reordered to uvms ``[angular; linear; joints]``."""
+    M = np.asarray(M, dtype=float)
+    perm = np.concatenate([[3, 4, 5, 0, 1, 2], np.arange(6, M.shape[0])])
+    return M[np.ix_(perm, perm)]
+
+
+def body_wrench_force(body_wrench):
+    """uvms ``[moment; force]`` on the vehicle (body axes) as a local-frame ``pinocchio.Force``."""
+    import pinocchio as pin
+
+    f = np.asarray(body_wrench, dtype=float)
+    return pin.Force(f[3:6].copy(), f[0:3].copy())

@@ -1,0 +1,1 @@
+"""Time-domain simulation: the state vector, compiled RK4 and adaptive integration, scenarios and results."""

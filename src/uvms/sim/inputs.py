@@ -1,0 +1,76 @@
+"""Inputs of a run: joint-torque schedules and time tables for the current (paper Section 6's torques).
+
+A :class:`TorqueSchedule` is piecewise constant: ``torques[k]`` applies for ``times[k] <= t < times[k+1]``
+(the last row until the end). A :class:`CurrentTable` holds world-frame current velocity and fluid
+acceleration at given times, interpolated linearly; a Python callable ``current(t) -> (3,)`` is sampled onto
+such a table on the integrator's half-step grid, so RK4 sees it exactly at every stage.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class TorqueSchedule:
+    """Piecewise-constant joint torques [N m]: ``torques[k]`` from ``times[k]`` on."""
+
+    times: np.ndarray      # (K,) increasing, times[0] == 0 [s]
+    torques: np.ndarray    # (K, n) [N m]
+
+    def __post_init__(self) -> None:
+        t = np.asarray(self.times, dtype=float).reshape(-1)
+        tau = np.atleast_2d(np.asarray(self.torques, dtype=float))
+        if tau.shape[0] != t.size or t.size == 0:
+            raise ValueError("torque schedule: one row of torques per time")
+        if t[0] != 0.0 or np.any(np.diff(t) <= 0):
+            raise ValueError("torque schedule: times must start at 0 and increase")
+        object.__setattr__(self, "times", t)
+        object.__setattr__(self, "torques", tau)
+
+    def __call__(self, t: float) -> np.ndarray:
+        k = int(np.searchsorted(self.times, t + 1e-12, side="right") - 1)
+        return self.torques[max(k, 0)]
+
+    def breakpoints(self) -> np.ndarray:
+        """Times where the torque changes (after 0)."""
+        return self.times[1:]
+
+    @classmethod
+    def constant(cls, torques) -> "TorqueSchedule":
+        return cls(times=np.array([0.0]), torques=np.atleast_2d(np.asarray(torques, dtype=float)))
+
+
+def paper_torques() -> TorqueSchedule:
+    """Section 6: ``tau = [2.5, 0, 0]`` N m for ``t < 2`` s, then ``[0.01, 0, 0]`` N m (decimal comma read as
+    2.5, ``shared/conventions.md``)."""
+    return TorqueSchedule(times=np.array([0.0, 2.0]), torques=np.array([[2.5, 0.0, 0.0], [0.01, 0.0, 0.0]]))
+
+
+@dataclass(frozen=True)
+class CurrentTable:
+    """World-frame current velocity [m/s] and fluid acceleration [m/s^2] at ``times`` [s] (linear between)."""
+
+    times: np.ndarray          # (K,)
+    velocity: np.ndarray       # (K, 3)
+    acceleration: np.ndarray   # (K, 3)
+
+    @classmethod
+    def constant(cls, velocity, acceleration=(0.0, 0.0, 0.0)) -> "CurrentTable":
+        return cls(np.zeros(1), np.atleast_2d(np.asarray(velocity, dtype=float)),
+                   np.atleast_2d(np.asarray(acceleration, dtype=float)))
+
+    @classmethod
+    def from_function(cls, velocity: Callable[[float], np.ndarray], duration: float, step: float,
+                      acceleration: Callable[[float], np.ndarray] | None = None) -> "CurrentTable":
+        """Sample ``velocity(t)`` on the half-step grid; the acceleration by central differences unless given."""
+        t = np.arange(0.0, duration + step, step / 2.0)
+        v = np.array([np.asarray(velocity(ti), dtype=float).reshape(3) for ti in t])
+        if acceleration is not None:
+            a = np.array([np.asarray(acceleration(ti), dtype=float).reshape(3) for ti in t])
+        else:
+            a = np.gradient(v, t, axis=0) if t.size > 1 else np.zeros_like(v)
+        return cls(t, v, a)

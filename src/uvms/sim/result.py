@@ -1,0 +1,189 @@
+"""Results of a run: labelled time series, a summary, and atomic saving (CSV + JSON).
+
+Nothing here is recomputed by the integrator: the states are what was integrated, everything else
+(Euler angles, body-frame errors, end-effector path) is derived from them on demand.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from uvms.rotations import euler_from_quaternion
+from uvms.sim.integrate import layout
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """A simulated run.
+
+    Attributes:
+        time: (K,) [s].
+        states: (K, N) state vectors (:mod:`uvms.sim.integrate` layout).
+        n_joints: arm joints ``n``.
+        end_effector: (K, 3) end-effector position in the world [m].
+        joint_torques: (K, n) applied joint torques [N m].
+        signals: controller and actuator signals, name -> (K,) array (e.g. ``s_surge``, ``command_X``).
+        complete: False if the run stopped early (divergence); ``message`` says why.
+        metadata: run metadata (versions, scenario hash, wall time, integrator, step).
+    """
+
+    time: np.ndarray
+    states: np.ndarray
+    n_joints: int
+    end_effector: np.ndarray
+    joint_torques: np.ndarray
+    signals: dict[str, np.ndarray] = field(default_factory=dict)
+    complete: bool = True
+    message: str = ""
+    metadata: dict[str, Any] = field(default_factory=dict)
+
+    def _slice(self, name: str) -> np.ndarray:
+        n_act = self.states.shape[1] - 13 - 2 * self.n_joints
+        return self.states[:, layout(self.n_joints, n_act)[name]]
+
+    @property
+    def position(self) -> np.ndarray:
+        """(K, 3) vehicle position in the world (x north, y east, z down) [m]."""
+        return self._slice("position")
+
+    @property
+    def quaternion(self) -> np.ndarray:
+        return self._slice("quaternion")
+
+    @property
+    def euler(self) -> np.ndarray:
+        """(K, 3) ZYX Euler angles (roll, pitch, yaw) [rad], yaw unwrapped over time."""
+        e = np.array([euler_from_quaternion(qt) for qt in self.quaternion])
+        if len(e):
+            e[:, 2] = np.unwrap(e[:, 2])
+        return e
+
+    @property
+    def nu(self) -> np.ndarray:
+        """(K, 6) body velocity ``[omega; v]`` [rad/s, m/s]."""
+        return self._slice("nu")
+
+    @property
+    def q(self) -> np.ndarray:
+        return self._slice("q")
+
+    @property
+    def qd(self) -> np.ndarray:
+        return self._slice("qd")
+
+    @property
+    def actuator(self) -> np.ndarray:
+        return self._slice("actuator")
+
+    def body_frame_error(self, position_ref=None) -> np.ndarray:
+        """(K, 3) vehicle position error from ``position_ref`` (default: the initial position), in the
+        vehicle's body axes ``R^T (p - p_ref)`` [m] (the paper's Figures 5-6)."""
+        from uvms.rotations import rotation_from_quaternion
+
+        ref = self.position[0] if position_ref is None else np.asarray(position_ref, dtype=float)
+        d = self.position - ref
+        return np.array([rotation_from_quaternion(qt).T @ di for qt, di in zip(self.quaternion, d)])
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Every labelled series as ``name -> (K,)`` (units in the names)."""
+        cols: dict[str, np.ndarray] = {"t_s": self.time}
+        for k, a in enumerate("xyz"):
+            cols[f"{a}_m"] = self.position[:, k]
+        for k, a in enumerate(("roll", "pitch", "yaw")):
+            cols[f"{a}_rad"] = self.euler[:, k]
+        for k, a in enumerate("pqr"):
+            cols[f"{a}_rad_s"] = self.nu[:, k]
+        for k, a in enumerate("uvw"):
+            cols[f"{a}_m_s"] = self.nu[:, 3 + k]
+        for j in range(self.n_joints):
+            cols[f"q{j + 1}_rad"] = self.q[:, j]
+        for j in range(self.n_joints):
+            cols[f"qd{j + 1}_rad_s"] = self.qd[:, j]
+        for j in range(self.n_joints):
+            cols[f"tau{j + 1}_Nm"] = self.joint_torques[:, j]
+        for k, a in enumerate("xyz"):
+            cols[f"ee_{a}_m"] = self.end_effector[:, k]
+        for k in range(self.actuator.shape[1]):
+            cols[f"actuator{k}"] = self.actuator[:, k]
+        for name, values in self.signals.items():
+            cols[name] = values
+        return cols
+
+    def to_dataframe(self):
+        """The time series as a pandas DataFrame (one column per labelled series)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.columns())
+
+    def summary(self) -> dict[str, Any]:
+        """Peaks and final state (JSON-ready)."""
+        err = self.body_frame_error()
+        e = self.euler
+        summ: dict[str, Any] = {
+            "complete": self.complete,
+            "message": self.message,
+            "duration_s": float(self.time[-1] - self.time[0]) if len(self.time) else 0.0,
+            "peak_abs_position_m": np.abs(self.position - self.position[0]).max(axis=0).tolist() if len(err) else [],
+            "peak_abs_euler_rad": np.abs(e - e[0]).max(axis=0).tolist() if len(e) else [],
+            "peak_body_error_xy_m": float(np.hypot(err[:, 0], err[:, 1]).max()) if len(err) else 0.0,
+            "final": {
+                "time_s": float(self.time[-1]) if len(self.time) else 0.0,
+                "position_m": self.position[-1].tolist() if len(self.time) else [],
+                "euler_rad": e[-1].tolist() if len(e) else [],
+                "q_rad": self.q[-1].tolist() if len(self.time) else [],
+                "end_effector_m": self.end_effector[-1].tolist() if len(self.time) else [],
+            },
+            "peak_abs_signal": {k: float(np.nanmax(np.abs(v))) for k, v in self.signals.items() if len(v)},
+            "metadata": self.metadata,
+        }
+        return summ
+
+    def save(self, directory, *, name: str = "result") -> Path:
+        """Write ``<name>.csv`` and ``<name>.json`` (summary) into ``directory``, each atomically."""
+        directory = Path(directory)
+        cols = self.columns()
+        header = ",".join(cols)
+        data = np.column_stack(list(cols.values())) if len(self.time) else np.zeros((0, len(cols)))
+        import io
+
+        buf = io.StringIO()
+        np.savetxt(buf, data, delimiter=",", header=header, comments="", fmt="%.10g")
+        atomic_write_text(directory / f"{name}.csv", buf.getvalue())
+        atomic_write_text(directory / f"{name}.json", json.dumps(self.summary(), indent=2, default=_json_default))
+        return directory
+
+
+def _json_default(obj):
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.floating, np.integer)):
+        return obj.item()
+    return str(obj)
+
+
+def load_result_table(directory, name: str = "result"):
+    """Read a saved run's CSV back as a pandas DataFrame."""
+    import pandas as pd
+
+    return pd.read_csv(Path(directory) / f"{name}.csv")

@@ -1,0 +1,300 @@
+"""Run a simulation: the outer loop of controller updates around the compiled integrator.
+
+Between two events (a controller update, a change in the joint-torque schedule, the end) every input is
+held (zero-order hold) and the compiled RK4 loop (:func:`uvms.sim.integrate.rk4`) advances the state with
+no Python in between. The adaptive alternative hands the same compiled derivative to scipy's
+``solve_ivp`` (DOP853, LSODA, Radau ...) segment by segment.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from uvms.control.base import ControlOutput, Measurement
+from uvms.dynamics.kernel_model import make_workspace
+from uvms.kinematics import link_poses
+from uvms.sim.actuation import actuator_kernel, n_actuator_states
+from uvms.sim.inputs import CurrentTable, TorqueSchedule
+from uvms.sim.integrate import check_state, pack, quaternion_to_rotation, rk4, state_derivative, unpack
+from uvms.sim.result import Result
+from uvms.state import State
+
+DEFAULT_BOUNDS = np.array([1e4, 1e3, 1e3, 1e6])
+"""Sane-state limits for divergence detection: |position| [m], |nu| [rad/s, m/s], |qd| [rad/s], |actuator|."""
+
+
+@dataclass(frozen=True)
+class Actuation:
+    """How commanded wrenches reach the vehicle: a thruster layout (empty: ideal body-wrench actuation)."""
+
+    thrusters: tuple = ()
+
+    @classmethod
+    def named(cls, name: str | None) -> "Actuation":
+        from uvms.thrusters.layouts import layout
+
+        return cls(() if name in (None, "ideal") else layout(name))
+
+
+def _quantity_name(index: int, n: int) -> str:
+    names = ["x", "y", "z", "qw", "qx", "qy", "qz", "p (roll rate)", "q (pitch rate)", "r (yaw rate)",
+             "u (surge velocity)", "v (sway velocity)", "w (heave velocity)"]
+    if index < 13:
+        return names[index]
+    if index < 13 + n:
+        return f"q{index - 12}"
+    if index < 13 + 2 * n:
+        return f"qd{index - 12 - n}"
+    return f"actuator state {index - 13 - 2 * n}"
+
+
+class _Commands:
+    """Turns a controller's wrench into held actuator commands (allocation, thrust -> voltage)."""
+
+    def __init__(self, thrusters: tuple):
+        self.thrusters = thrusters
+        self.m = len(thrusters)
+        if self.m:
+            from uvms.thrusters.layouts import layout_matrix, thrust_limits
+
+            self.Lambda = layout_matrix(thrusters)
+            self.lower, self.upper = thrust_limits(thrusters)
+
+    def __call__(self, wrench: np.ndarray) -> tuple[np.ndarray, dict[str, float]]:
+        if self.m == 0:
+            return np.array(wrench, dtype=float), {}
+        from uvms.thrusters.allocation import allocate
+        from uvms.thrusters.healey import voltage_for_thrust
+
+        alloc = allocate(self.Lambda, wrench, self.lower, self.upper)
+        command = np.zeros(max(self.m, 6))
+        signals: dict[str, float] = {}
+        for j, t in enumerate(self.thrusters):
+            T = float(alloc.thrust[j])
+            command[j] = float(voltage_for_thrust(t.parameters, T)) if t.model == "healey" else T
+            signals[f"thrust_cmd_{t.name}"] = T
+        for k, a in enumerate(("K", "M", "N", "X", "Y", "Z")):
+            signals[f"unachieved_{a}"] = float(alloc.residual[k])
+        return command, signals
+
+
+def simulate(model, initial_state: State | None = None, *, duration: float, step: float = 1e-3,
+             integrator: str = "rk4", fixed_base: bool = False,
+             joint_torques: TorqueSchedule | Callable | np.ndarray | None = None,
+             body_wrench=None, ee_wrench=None, current: CurrentTable | Callable | np.ndarray | None = None,
+             controller=None, actuation: Actuation | None = None, control_period: float | None = None,
+             record_period: float | None = None, rtol: float = 1e-10, atol: float = 1e-12,
+             bounds: np.ndarray = DEFAULT_BOUNDS, progress: Callable[[float, float], None] | None = None,
+             metadata: dict[str, Any] | None = None) -> Result:
+    """Simulate ``duration`` seconds from ``initial_state`` (default: at rest at the origin).
+
+    Args:
+        step: integration step [s] (RK4), or the maximum step of the adaptive integrator.
+        integrator: ``"rk4"`` (compiled, fixed step) or a ``solve_ivp`` method (``"DOP853"``, ``"LSODA"`` ...).
+        fixed_base: clamp the vehicle (a land-based arm); released otherwise.
+        joint_torques: constant (n,), a :class:`TorqueSchedule`, or a callable ``(t, state) -> (n,)``
+            (an arm controller; held over ``control_period``).
+        body_wrench: constant external wrench on the vehicle (6,), body axes ``[moment; force]``.
+        ee_wrench: constant spatial force on the end effector, end-effector axes (6,).
+        current: constant world current (3,), a :class:`CurrentTable`, or a callable ``t -> (3,)``;
+            default: the model's environment.
+        controller: a vehicle controller (:class:`uvms.control.base.Controller`) or ``None``.
+        actuation: thrusters between the controller and the vehicle (default: ideal body wrench).
+        control_period: hold time of controller/arm-command updates [s] (default: the controller's own period).
+        record_period: sampling of the result [s] (default: every step, at most 20 000 samples).
+        progress: ``progress(t, duration)`` called after each segment.
+    """
+    wall0 = _time.perf_counter()
+    if duration <= 0 or step <= 0:
+        raise ValueError("duration and step must be positive")
+    n = model.n_joints
+    state = initial_state if initial_state is not None else State.zero(model)
+    if state.q.size != n:
+        raise ValueError(f"initial state has {state.q.size} joints, the model has {n}")
+    actuation = actuation or Actuation()
+    act = actuator_kernel(actuation.thrusters)
+    n_act = n_actuator_states(act)
+    if state.actuator.size != n_act:
+        state = state.replace(actuator=np.zeros(n_act))
+    if fixed_base:
+        state = state.replace(nu=np.zeros(6))
+    x = pack(state).astype(float)
+
+    n_total = int(round(duration / step))
+    h = duration / n_total
+    # -- events: controller updates and schedule breakpoints, on the step grid
+    if control_period is None:
+        control_period = getattr(controller, "period", None) or (0.01 if callable(joint_torques) else duration)
+    every = max(1, int(round(control_period / h)))
+    events = set(range(every, n_total, every))
+    if isinstance(joint_torques, TorqueSchedule):
+        events.update(int(round(tb / h)) for tb in joint_torques.breakpoints() if 0 < tb < duration)
+    events.add(n_total)
+    events = sorted(events)
+    if record_period is None:
+        record_period = h * max(1, int(np.ceil(n_total / 20000)))
+    record_every = max(1, int(round(record_period / h)))
+
+    # -- inputs
+    if current is None:
+        table = CurrentTable.constant(model.current, model.fluid_acceleration)
+    elif isinstance(current, CurrentTable):
+        table = current
+    elif callable(current):
+        table = CurrentTable.from_function(current, duration, h)
+    else:
+        table = CurrentTable.constant(current, model.fluid_acceleration)
+    env_t = np.ascontiguousarray(table.times, dtype=float)
+    env_vc = np.ascontiguousarray(table.velocity, dtype=float)
+    env_af = np.ascontiguousarray(table.acceleration, dtype=float)
+
+    def torques_at(t: float, st: State) -> np.ndarray:
+        if joint_torques is None:
+            return np.zeros(n)
+        if isinstance(joint_torques, TorqueSchedule):
+            return np.array(joint_torques(t), dtype=float)
+        if callable(joint_torques):
+            return np.array(joint_torques(t, st), dtype=float).reshape(n)
+        return np.array(joint_torques, dtype=float).reshape(n)
+
+    f_ext = np.zeros(6) if body_wrench is None else np.array(body_wrench, dtype=float).reshape(6)
+    f_ee = np.zeros(6) if ee_wrench is None else np.array(ee_wrench, dtype=float).reshape(6)
+    commands = _Commands(actuation.thrusters)
+    if controller is not None and hasattr(controller, "reset"):
+        controller.reset()
+
+    km = model.kernel
+    ws = make_workspace(model.n_bodies)
+    n_rec = n_total // record_every + 2
+    out_t = np.zeros(n_rec)
+    out_x = np.zeros((n_rec, x.size))
+    out_tau = np.zeros((n_rec, n))
+    signal_rows: list[tuple[int, int, dict[str, float]]] = []
+    out_t[0] = 0.0
+    out_x[0] = x
+    n_out = 1
+    done = 0
+    complete = True
+    message = ""
+    R = np.zeros((3, 3))
+    vecs = np.zeros((5, 6))
+    thrust = np.zeros(max(len(actuation.thrusters), 1))
+    xdot = np.zeros(x.size)
+    zero_cmd = np.zeros(max(len(actuation.thrusters), 6))
+
+    last_command = zero_cmd
+    for event in events:
+        t = done * h
+        st = unpack(x, n)
+        tau = torques_at(t, st)
+        signals: dict[str, float] = {}
+        command = zero_cmd
+        if controller is not None:
+            state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, last_command, env_t, env_vc, env_af,
+                             bool(fixed_base), xdot, R, vecs, thrust)
+            out: ControlOutput = controller.update(Measurement(time=t, state=st, joint_torques=tau,
+                                                               nu_dot=xdot[7:13].copy()))
+            command, alloc_signals = commands(np.asarray(out.wrench, dtype=float))
+            signals = {**out.signals, **{f"command_{a}": float(out.wrench[k])
+                                         for k, a in enumerate(("K", "M", "N", "X", "Y", "Z"))}, **alloc_signals}
+        last_command = command
+        steps = event - done
+        first_row = 0 if done == 0 else n_out
+        if integrator.lower() == "rk4":
+            k_done, n_out, code = rk4(km, ws, act, x, t, h, steps, done, record_every, tau, f_ext, f_ee, command,
+                                      env_t, env_vc, env_af, bool(fixed_base), bounds, out_t, out_x, n_out)
+        else:
+            k_done, n_out, code = _adaptive_segment(km, ws, act, x, t, h, steps, record_every, done, tau, f_ext,
+                                                    f_ee, command, env_t, env_vc, env_af, bool(fixed_base),
+                                                    bounds, out_t, out_x, n_out, integrator, rtol, atol)
+        out_tau[first_row:n_out] = tau
+        signal_rows.append((first_row, n_out, signals))
+        done += k_done
+        if code != 0:
+            complete = False
+            idx = abs(code) - 1
+            what = "is not finite" if code < 0 else "left its sane range"
+            message = (f"simulation diverged at t = {done * h:.4g} s: {_quantity_name(idx, n)} {what}; "
+                       f"try a smaller step (now {h:g} s)")
+            out_t[n_out] = done * h
+            out_x[n_out] = x
+            out_tau[n_out] = tau
+            n_out += 1
+            break
+        if progress is not None:
+            progress(done * h, duration)
+
+    out_t = out_t[:n_out]
+    out_x = out_x[:n_out]
+    names = sorted({k for _, _, s in signal_rows for k in s})
+    sig = {k: np.full(n_out, np.nan) for k in names}
+    for a, b, s in signal_rows:
+        for k, v in s.items():
+            sig[k][a:b] = v
+    ee = np.zeros((n_out, 3))
+    Rs = np.zeros((model.n_bodies + 1, 3, 3))
+    ps = np.zeros((model.n_bodies + 1, 3))
+    E = np.zeros((3, 3))
+    X = np.zeros((6, 6))
+    for k in range(n_out):
+        xk = out_x[k]
+        quaternion_to_rotation(xk[3], xk[4], xk[5], xk[6], R)
+        link_poses(km, R, xk[0:3].copy(), xk[13:13 + n].copy(), Rs, ps, E, X)
+        ee[k] = ps[-1]
+    meta = {"integrator": integrator, "step_s": h, "duration_s": duration, "fixed_base": bool(fixed_base),
+            "wall_time_s": _time.perf_counter() - wall0, "model": model.name, **_versions(), **(metadata or {})}
+    return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau[:n_out],
+                  signals=sig, complete=complete, message=message, metadata=meta)
+
+
+def _versions() -> dict[str, str]:
+    import numba
+    import scipy
+
+    import uvms
+
+    return {"uvms_version": uvms.__version__, "numpy_version": np.__version__, "scipy_version": scipy.__version__,
+            "numba_version": numba.__version__}
+
+
+def _adaptive_segment(km, ws, act, x, t0, h, steps, record_every, done, tau, f_ext, f_ee, command, env_t, env_vc,
+                      env_af, fixed_base, bounds, out_t, out_x, n_out, method, rtol, atol):
+    """One held-input segment with ``scipy.integrate.solve_ivp``; records on the same grid as RK4."""
+    from scipy.integrate import solve_ivp
+
+    n = km.parent.shape[0] - 1
+    R = np.zeros((3, 3))
+    vecs = np.zeros((5, 6))
+    thrust = np.zeros(max(act.kind.shape[0], 1))
+
+    def f(t, y):
+        dy = np.zeros(y.size)
+        state_derivative(km, ws, act, np.ascontiguousarray(y), t, tau, f_ext, f_ee, command, env_t, env_vc, env_af,
+                         fixed_base, dy, R, vecs, thrust)
+        return dy
+
+    grid = [k for k in range(done + 1, done + steps + 1) if k % record_every == 0]
+    t1 = (done + steps) * h
+    t_eval = [min(k * h, t1) for k in grid]
+    if not grid or grid[-1] != done + steps:
+        t_eval.append(t1)
+    sol = solve_ivp(f, (t0, t1), x, method=method, rtol=rtol, atol=atol, max_step=max(h, 1e-6) * 50,
+                    t_eval=t_eval)
+    if not sol.success:
+        if sol.y.size:
+            x[:] = sol.y[:, -1]
+        return 0, n_out, -1
+    for j, k in enumerate(grid):
+        if n_out < out_t.shape[0]:
+            out_t[n_out] = k * h
+            out_x[n_out] = sol.y[:, j]
+            out_x[n_out, 3:7] /= np.linalg.norm(out_x[n_out, 3:7])
+            n_out += 1
+    x[:] = sol.y[:, -1]
+    x[3:7] /= np.linalg.norm(x[3:7])
+    code = check_state(x, n, bounds)
+    return steps, n_out, code

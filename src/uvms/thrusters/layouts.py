@@ -1,0 +1,125 @@
+"""Bundled thruster layouts for the paper vehicle (cube of side 0.596 m, centre of mass at the origin).
+
+Body axes: x forward, y starboard, z down; positions from the centre of mass [m], unit directions.
+
+=============  ================================================================================================
+name           thrusters
+=============  ================================================================================================
+``paper``      ``surge_port`` at (0, -0.15, 0) and ``surge_starboard`` at (0, +0.15, 0), both along +x; ``heave``
+               at the origin along +z. Produces X, Z and N (yaw by differential surge); **no sway force Y**,
+               which the paper's controller nevertheless commands.
+``paper-sway`` ``paper`` plus ``sway`` at the origin along +y: produces X, Y, Z and N. The bundled default.
+``ideal``      no thrusters: the commanded body wrench is applied as it is (``layout("ideal") == ()``).
+=============  ================================================================================================
+
+All thrusters default to the Healey model (:mod:`uvms.thrusters.healey`) with the default parameters.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from uvms.errors import UvmsInputError
+from uvms.thrusters.allocation import allocation_matrix
+from uvms.thrusters.first_order import FirstOrderParameters
+from uvms.thrusters.healey import HealeyParameters
+from uvms.thrusters.ideal import IdealParameters
+
+ThrusterKind = Literal["healey", "first_order", "ideal"]
+ThrusterParameters = HealeyParameters | FirstOrderParameters | IdealParameters
+
+_PARAMETER_TYPES: dict[str, type] = {
+    "healey": HealeyParameters,
+    "first_order": FirstOrderParameters,
+    "ideal": IdealParameters,
+}
+
+DEFAULT_LAYOUT = "paper-sway"
+VEHICLE_SIDE = 0.596
+"""Side of the paper vehicle's cube [m]."""
+
+
+@dataclass(frozen=True)
+class Thruster:
+    """One thruster: where it is, where it pushes, and its dynamic model.
+
+    Attributes:
+        name: label, unique within a layout.
+        position: (3,) point of application in the vehicle frame, from the centre of mass [m].
+        direction: (3,) unit thrust direction in the vehicle frame (normalised on construction).
+        model: ``"healey"``, ``"first_order"`` or ``"ideal"``.
+        parameters: the model's parameters; ``None`` means the model's defaults.
+    """
+
+    name: str
+    position: tuple[float, float, float]
+    direction: tuple[float, float, float]
+    model: ThrusterKind = "healey"
+    parameters: ThrusterParameters | None = None
+
+    def __post_init__(self) -> None:
+        if self.model not in _PARAMETER_TYPES:
+            raise UvmsInputError(f"thruster model must be one of {sorted(_PARAMETER_TYPES)}, got {self.model!r}",
+                                 path=f"thrusters.{self.name}.model")
+        position = np.asarray(self.position, dtype=float)
+        direction = np.asarray(self.direction, dtype=float)
+        if position.shape != (3,) or not np.all(np.isfinite(position)):
+            raise UvmsInputError(f"position must be 3 finite numbers, got {self.position!r}",
+                                 path=f"thrusters.{self.name}.position")
+        norm = float(np.linalg.norm(direction)) if direction.shape == (3,) else 0.0
+        if not (np.isfinite(norm) and norm > 1e-12):
+            raise UvmsInputError(f"direction must be 3 finite numbers, not all zero, got {self.direction!r}",
+                                 path=f"thrusters.{self.name}.direction")
+        object.__setattr__(self, "position", tuple(float(x) for x in position))
+        object.__setattr__(self, "direction", tuple(float(x) for x in direction / norm))
+        expected = _PARAMETER_TYPES[self.model]
+        if self.parameters is None:
+            object.__setattr__(self, "parameters", expected())
+        elif not isinstance(self.parameters, expected):
+            raise UvmsInputError(f"a {self.model!r} thruster needs {expected.__name__}, got "
+                                 f"{type(self.parameters).__name__}", path=f"thrusters.{self.name}.parameters")
+
+    @property
+    def max_thrust(self) -> float:
+        """Largest steady thrust magnitude [N] (symmetric limits: the models are odd)."""
+        return float(self.parameters.max_thrust)
+
+
+_LAYOUTS: dict[str, tuple[Thruster, ...]] = {
+    "paper": (
+        Thruster("surge_port", (0.0, -0.15, 0.0), (1.0, 0.0, 0.0)),
+        Thruster("surge_starboard", (0.0, 0.15, 0.0), (1.0, 0.0, 0.0)),
+        Thruster("heave", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
+    ),
+    "ideal": (),
+}
+_LAYOUTS["paper-sway"] = _LAYOUTS["paper"] + (Thruster("sway", (0.0, 0.0, 0.0), (0.0, 1.0, 0.0)),)
+
+
+def layout_names() -> tuple[str, ...]:
+    """Names of the bundled layouts."""
+    return tuple(sorted(_LAYOUTS))
+
+
+def layout(name: str = DEFAULT_LAYOUT) -> tuple[Thruster, ...]:
+    """The bundled layout ``name`` (an empty tuple for ``"ideal"``: body-wrench actuation)."""
+    try:
+        return _LAYOUTS[name]
+    except KeyError:
+        raise UvmsInputError(f"unknown thruster layout {name!r}; known: {', '.join(layout_names())}") from None
+
+
+def layout_matrix(thrusters: tuple[Thruster, ...]) -> np.ndarray:
+    """``Lambda`` (6, m) of a layout (paper Eq. 11); (6, 0) for no thrusters."""
+    if not thrusters:
+        return np.zeros((6, 0))
+    return allocation_matrix(np.array([t.position for t in thrusters]), np.array([t.direction for t in thrusters]))
+
+
+def thrust_limits(thrusters: tuple[Thruster, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """``(lower, upper)`` (m,) steady thrust limits [N] of a layout, for :func:`~uvms.thrusters.allocation.allocate`."""
+    upper = np.array([t.max_thrust for t in thrusters], dtype=float)
+    return -upper, upper
