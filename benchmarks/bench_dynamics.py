@@ -1,7 +1,9 @@
 """Speed of the uvms dynamics against Pinocchio and MuJoCo, and ABA against CRBA + solve as chains grow.
 
-Run ``python benchmarks/bench_dynamics.py [--json FILE] [--repeats 20] [--calls 2000] [--only NAME ...]``.
-Every figure is the median over ``repeats`` batches of ``calls`` calls, in microseconds per call.
+Run ``python benchmarks/bench_dynamics.py [--json FILE] [--repeats 20] [--calls 2000] [--statistic median|min]
+[--only NAME ...]``.
+Every figure is the median (``--statistic min``: the best) over ``repeats`` batches of ``calls`` calls, in
+microseconds per call.
 
 Sections (each a function returning a :class:`Section`; add new ones to ``BENCHMARKS``):
 
@@ -18,12 +20,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import platform
 import statistics
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
-from typing import Callable
 
 import numpy as np
 from numba import njit
@@ -38,13 +41,14 @@ from uvms.rotations import quaternion_from_rotation, rotation_from_euler
 from uvms.spatial import modified_dh_pose, rotz
 
 SCALING_LINKS = (3, 6, 12, 24, 48)
-MIN_INERTIA = 1e-9      # floor on principal inertias for MuJoCo (the paper's links have Ixx = 0) [kg m^2]
+MIN_INERTIA = 1e-9      # added to every rotational inertia in the MJCF (the paper's links have Ixx = 0) [kg m^2]
 
 
 @dataclass
 class Settings:
     repeats: int = 20
     calls: int = 2000
+    statistic: str = "median"       # or "min": the best batch, steadier on a busy machine
 
 
 @dataclass
@@ -61,8 +65,9 @@ class Section:
 
 # -- timing ---------------------------------------------------------------------------------------------------
 
-def median_us(batch: Callable[[int], object], settings: Settings, calls: int | None = None) -> float:
-    """Median over ``settings.repeats`` of the time of ``batch(calls)`` divided by ``calls`` [us per call]."""
+def time_per_call_us(batch: Callable[[int], object], settings: Settings, calls: int | None = None) -> float:
+    """Median (or minimum, ``settings.statistic``) over ``settings.repeats`` of the time of ``batch(calls)``
+    divided by ``calls`` [us per call]."""
     calls = settings.calls if calls is None else calls
     batch(min(calls, 10))                                   # warm-up (compilation, caches)
     times = []
@@ -70,7 +75,16 @@ def median_us(batch: Callable[[int], object], settings: Settings, calls: int | N
         t0 = time.perf_counter()
         batch(calls)
         times.append(time.perf_counter() - t0)
-    return statistics.median(times) / calls * 1e6
+    best = min(times) if settings.statistic == "min" else statistics.median(times)
+    return best / calls * 1e6
+
+
+def python_loop(fn: Callable, *args, **kwargs) -> Callable[[int], None]:
+    """A batch of ``calls`` calls of ``fn(*args, **kwargs)`` from a plain Python loop."""
+    def batch(calls: int) -> None:
+        for _ in range(calls):
+            fn(*args, **kwargs)
+    return batch
 
 
 @njit(cache=True)
@@ -225,11 +239,8 @@ def bench_python(settings: Settings) -> Section:
     hydro, rigid = paper_models()
     for name, model in (("rigid", rigid), ("hydrodynamic", hydro)):
         inp = KernelInputs(model)
-
-        def batch(calls: int, model=model, inp=inp) -> None:
-            for _ in range(calls):
-                uvms.forward_dynamics(model, inp.state, joint_torques=inp.tau, body_wrench=inp.f_body)
-        sec.figures[f"forward_dynamics_{name}_us"] = median_us(batch, settings)
+        batch = python_loop(uvms.forward_dynamics, model, inp.state, joint_torques=inp.tau, body_wrench=inp.f_body)
+        sec.figures[f"forward_dynamics_{name}_us"] = time_per_call_us(batch, settings)
     r, h = sec.figures["forward_dynamics_rigid_us"], sec.figures["forward_dynamics_hydrodynamic_us"]
     sec.rows = [["rigid", r, 1.0], ["hydrodynamic", h, h / r]]
     return sec
@@ -237,10 +248,11 @@ def bench_python(settings: Settings) -> Section:
 
 def bench_compiled(settings: Settings) -> Section:
     """(b) the compiled ``aba`` kernel in an ``@njit`` loop, rigid and hydrodynamic."""
-    sec = Section("compiled", "aba kernel in an @njit loop, paper model (per evaluation)", ["model", "us/call", "ratio"])
+    sec = Section("compiled", "aba kernel in an @njit loop, paper model (per evaluation)",
+                  ["model", "us/call", "ratio"])
     hydro, rigid = paper_models()
     for name, model in (("rigid", rigid), ("hydrodynamic", hydro)):
-        sec.figures[f"aba_{name}_us"] = median_us(KernelInputs(model).aba_batch, settings)
+        sec.figures[f"aba_{name}_us"] = time_per_call_us(KernelInputs(model).aba_batch, settings)
     r, h = sec.figures["aba_rigid_us"], sec.figures["aba_hydrodynamic_us"]
     sec.figures["hydro_over_rigid"] = h / r
     sec.rows = [["rigid", r, 1.0], ["hydrodynamic", h, h / r]]
@@ -249,14 +261,20 @@ def bench_compiled(settings: Settings) -> Section:
 
 def bench_pinocchio(settings: Settings) -> Section:
     """(c) ``pinocchio.aba`` from Python on the rigid paper model (free flyer)."""
-    sec = Section("pinocchio", "pinocchio.aba from Python, paper model, rigid", ["call", "us/call", "vs uvms"])
+    sec = Section("pinocchio", "pinocchio.aba from Python, paper model, rigid",
+                  ["call", "us/call", "ratio to pinocchio"])
     try:
         import pinocchio as pin
     except ImportError:
         sec.notes.append("skipped: pinocchio (pip package 'pin') is not installed")
         return sec
-    from uvms.interop.pinocchio_model import (body_wrench_force, generalized_from_pinocchio, pinocchio_configuration,
-                                              pinocchio_model_from, pinocchio_velocity)
+    from uvms.interop.pinocchio_model import (
+        body_wrench_force,
+        generalized_from_pinocchio,
+        pinocchio_configuration,
+        pinocchio_model_from,
+        pinocchio_velocity,
+    )
 
     _, rigid = paper_models()
     inp = KernelInputs(rigid)
@@ -269,22 +287,13 @@ def bench_pinocchio(settings: Settings) -> Section:
         fext.append(pin.Force.Zero())
     fext[1] = body_wrench_force(inp.f_body)
 
-    def plain(calls: int) -> None:
-        for _ in range(calls):
-            pin.aba(pm, pd, q, v, tau)
-
-    def with_fext(calls: int) -> None:
-        for _ in range(calls):
-            pin.aba(pm, pd, q, v, tau, fext)
-
     reference = uvms.forward_dynamics(rigid, inp.state, joint_torques=inp.tau, body_wrench=inp.f_body)
     error = np.abs(generalized_from_pinocchio(pin.aba(pm, pd, q, v, tau, fext)) - reference.generalized).max()
-    uvms_python = median_us(lambda calls: [uvms.forward_dynamics(rigid, inp.state, joint_torques=inp.tau,
-                                                                 body_wrench=inp.f_body) for _ in range(calls)],
-                            settings)
-    uvms_compiled = median_us(inp.aba_batch, settings)
-    sec.figures["pinocchio_aba_us"] = median_us(plain, settings)
-    sec.figures["pinocchio_aba_fext_us"] = median_us(with_fext, settings)
+    uvms_python = time_per_call_us(python_loop(uvms.forward_dynamics, rigid, inp.state, joint_torques=inp.tau,
+                                        body_wrench=inp.f_body), settings)
+    uvms_compiled = time_per_call_us(inp.aba_batch, settings)
+    sec.figures["pinocchio_aba_us"] = time_per_call_us(python_loop(pin.aba, pm, pd, q, v, tau), settings)
+    sec.figures["pinocchio_aba_fext_us"] = time_per_call_us(python_loop(pin.aba, pm, pd, q, v, tau, fext), settings)
     sec.figures["uvms_forward_dynamics_rigid_us"] = uvms_python
     sec.figures["uvms_aba_compiled_rigid_us"] = uvms_compiled
     sec.figures["max_abs_difference"] = float(error)
@@ -316,8 +325,8 @@ def mjcf_from(model: Model, *, fluid: bool = True, timestep: float = 0.001, inte
     g = model.gravity
     lines = [
         f'<mujoco model="{model.name}">',
-        f'  <option density="{density:g}" viscosity="0" integrator="{integrator}" timestep="{timestep:g}" '
-        f'gravity="{g[0]:g} {g[1]:g} {g[2]:g}"/>',
+        (f'  <option density="{density:g}" viscosity="0" integrator="{integrator}" timestep="{timestep:g}" '
+         f'gravity="{g[0]:g} {g[1]:g} {g[2]:g}"/>'),
         '  <default><geom contype="0" conaffinity="0" fluidshape="ellipsoid"/></default>',
         '  <worldbody>',
         '    <body name="vehicle">',
@@ -332,8 +341,8 @@ def mjcf_from(model: Model, *, fluid: bool = True, timestep: float = 0.001, inte
         p = model.joint_position[i]
         L, r = model.link_length[i], model.link_radius[i]
         lines += [
-            f'{indent}<body name="link{i + 1}" pos="{p[0]:.17g} {p[1]:.17g} {p[2]:.17g}" '
-            f'quat="{w:.17g} {x:.17g} {y:.17g} {z:.17g}">',
+            (f'{indent}<body name="link{i + 1}" pos="{p[0]:.17g} {p[1]:.17g} {p[2]:.17g}" '
+             f'quat="{w:.17g} {x:.17g} {y:.17g} {z:.17g}">'),
             f'{indent}  <joint name="joint{i + 1}" type="hinge" axis="0 0 1"/>',
             f'{indent}  {inertial(i + 1)}',
             f'{indent}  <geom type="cylinder" fromto="0 0 0 {L:g} 0 0" size="{r:g}"/>',
@@ -351,9 +360,9 @@ def mjcf_from(model: Model, *, fluid: bool = True, timestep: float = 0.001, inte
 def mujoco_rigid_check(mujoco, model: Model) -> float:
     """Max |qacc difference| between MuJoCo (fluid off) and uvms on the rigid model with MuJoCo's inertia floor."""
     rigid = model.with_effects(added_mass=False, drag=False, buoyancy=False)
-    rigid = rigid.replace(inertia_com=np.array(rigid.inertia_com) + MIN_INERTIA * np.eye(3))
     mm = mujoco.MjModel.from_xml_string(mjcf_from(rigid, fluid=False))
     md = mujoco.MjData(mm)
+    rigid = rigid.replace(inertia_com=np.array(rigid.inertia_com) + MIN_INERTIA * np.eye(3))   # as in the MJCF
     inp = KernelInputs(rigid)
     s, R = inp.state, inp.R0
     omega, v = s.nu[:3], s.nu[3:]
@@ -397,11 +406,11 @@ def bench_mujoco(settings: Settings) -> Section:
         return batch
 
     f = sec.figures
-    f["mj_step_rk4_fluid_us"] = median_us(stepper(True, mujoco.mj_step), settings)
-    f["mj_forward_fluid_us"] = median_us(stepper(True, mujoco.mj_forward), settings)
-    f["mj_step_rk4_no_fluid_us"] = median_us(stepper(False, mujoco.mj_step), settings)
-    f["mj_forward_no_fluid_us"] = median_us(stepper(False, mujoco.mj_forward), settings)
-    f["uvms_aba_compiled_hydro_us"] = median_us(inp.aba_batch, settings)
+    f["mj_step_rk4_fluid_us"] = time_per_call_us(stepper(True, mujoco.mj_step), settings)
+    f["mj_forward_fluid_us"] = time_per_call_us(stepper(True, mujoco.mj_forward), settings)
+    f["mj_step_rk4_no_fluid_us"] = time_per_call_us(stepper(False, mujoco.mj_step), settings)
+    f["mj_forward_no_fluid_us"] = time_per_call_us(stepper(False, mujoco.mj_forward), settings)
+    f["uvms_aba_compiled_hydro_us"] = time_per_call_us(inp.aba_batch, settings)
     f["rigid_check_max_abs_qacc_difference"] = mujoco_rigid_check(mujoco, hydro)
     four = 4 * f["uvms_aba_compiled_hydro_us"]
     sec.rows = [
@@ -414,8 +423,8 @@ def bench_mujoco(settings: Settings) -> Section:
     ]
     sec.notes += [
         "ratio: mj_step against 4 uvms hydrodynamic aba evaluations, mj_forward against one",
-        "MuJoCo called from a Python loop (includes ~0.1-0.3 us call overhead per call); "
-        "its fluid model is not the paper's hydrodynamics, so only the cost is comparable",
+        ("MuJoCo called from a Python loop (includes ~0.1-0.3 us call overhead per call); "
+         "its fluid model is not the paper's hydrodynamics, so only the cost is comparable"),
         f"MJCF check (fluid off): max |qacc_mujoco - qacc_uvms| = {f['rigid_check_max_abs_qacc_difference']:.1e}",
     ]
     return sec
@@ -425,8 +434,8 @@ def bench_scaling(settings: Settings) -> Section:
     """(e) ABA against CRBA + RNEA + solve on random hydrodynamic chains, all compiled; Pinocchio for scale."""
     try:
         import pinocchio as pin
-        from uvms.interop.pinocchio_model import (pinocchio_configuration, pinocchio_model_from,
-                                                  pinocchio_velocity)
+
+        from uvms.interop.pinocchio_model import pinocchio_configuration, pinocchio_model_from, pinocchio_velocity
     except ImportError:
         pin = None
     sec = Section("scaling", "ABA vs CRBA + RNEA + solve, random chains, compiled loops (us per evaluation)",
@@ -438,11 +447,11 @@ def bench_scaling(settings: Settings) -> Section:
         rigid = model.with_effects(added_mass=False, drag=False, buoyancy=False)
         inp = KernelInputs(model)
         calls = settings.calls
-        t_aba = median_us(inp.aba_batch, settings, calls)
-        t_rigid = median_us(KernelInputs(rigid).aba_batch, settings, calls)
-        t_chol = median_us(inp.crba_batch(False), settings, calls)
+        t_aba = time_per_call_us(inp.aba_batch, settings, calls)
+        t_rigid = time_per_call_us(KernelInputs(rigid).aba_batch, settings, calls)
+        t_chol = time_per_call_us(inp.crba_batch(False), settings, calls)
         x_chol = inp.x.copy()
-        t_lapack = median_us(inp.crba_batch(True), settings, calls)
+        t_lapack = time_per_call_us(inp.crba_batch(True), settings, calls)
         inp.aba_batch(1)
         disagreement = np.abs(x_chol - np.concatenate([inp.nu_dot, inp.qdd])).max()
         if disagreement > 1e-8 * max(1.0, np.abs(x_chol).max()):
@@ -453,7 +462,7 @@ def bench_scaling(settings: Settings) -> Section:
             pd = pm.createData()
             q, v = pinocchio_configuration(inp.state), pinocchio_velocity(inp.state)
             tau = np.concatenate([np.zeros(6), inp.tau])
-            t_pin = median_us(lambda c: [pin.aba(pm, pd, q, v, tau) for _ in range(c)], settings, calls)
+            t_pin = time_per_call_us(python_loop(pin.aba, pm, pd, q, v, tau), settings, calls)
         sec.rows.append([n, t_aba, t_rigid, t_chol, t_lapack, t_pin, t_chol / t_aba, t_lapack / t_aba])
         sec.figures.update({f"aba_hydro_n{n}_us": t_aba, f"aba_rigid_n{n}_us": t_rigid,
                             f"crba_rnea_cholesky_n{n}_us": t_chol, f"crba_rnea_lapack_n{n}_us": t_lapack,
@@ -493,12 +502,13 @@ def print_section(sec: Section) -> None:
         for note in sec.notes:
             print(f"  note: {note}")
         return
-    table = Table(title=sec.title, title_justify="left")
+    table = Table()
     for i, col in enumerate(sec.columns):
         table.add_column(col, justify="left" if i == 0 else "right")
     for row in sec.rows:
         table.add_row(*(_cell(v) for v in row))
-    console = Console()
+    console = Console(width=None if sys.stdout.isatty() else 120)
+    console.print(f"\n[bold]{sec.title}[/bold]")
     console.print(table)
     for note in sec.notes:
         console.print(f"  [dim]{note}[/dim]")
@@ -535,9 +545,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", metavar="FILE", help="also write the figures to FILE as JSON")
     parser.add_argument("--repeats", type=int, default=Settings.repeats, help="batches per figure (median)")
     parser.add_argument("--calls", type=int, default=Settings.calls, help="calls per batch")
+    parser.add_argument("--statistic", choices=["median", "min"], default="median",
+                        help="statistic over the batches (min is steadier on a busy machine)")
     parser.add_argument("--only", nargs="+", choices=sorted(BENCHMARKS), help="run only these sections")
     args = parser.parse_args(argv)
-    settings = Settings(repeats=args.repeats, calls=args.calls)
+    settings = Settings(repeats=args.repeats, calls=args.calls, statistic=args.statistic)
 
     t0 = time.perf_counter()
     hydro, _ = paper_models()
@@ -549,12 +561,13 @@ def main(argv: list[str] | None = None) -> int:
         sec = BENCHMARKS[name](settings)
         print_section(sec)
         sections.append(sec)
-    print(f"\nload model + first forward_dynamics call: {first_call:.2f} s; "
-          f"{settings.repeats} repeats x {settings.calls} calls, medians; {platform.processor() or platform.machine()}")
+    print(f"\nload model + first forward_dynamics call: {first_call:.2f} s; {settings.statistic} of "
+          f"{settings.repeats} batches x {settings.calls} calls; {platform.processor() or platform.machine()}, "
+          f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}")
 
     if args.json:
         report = {"settings": asdict(settings), "versions": versions(), "platform": platform.platform(),
-                  "first_call_s": first_call,
+                  "cpus": os.cpu_count(), "load_average": os.getloadavg()[0], "first_call_s": first_call,
                   "sections": {s.key: {"title": s.title, "figures": s.figures, "columns": s.columns, "rows": s.rows,
                                        "notes": s.notes} for s in sections}}
         with open(args.json, "w") as fh:

@@ -5,24 +5,47 @@ Public API (stable names)::
     load_model(name_or_path) -> Model          State.from_euler(model, position=, euler=, nu=, q=, qd=)
     forward_dynamics(model, state, ...)        inverse_dynamics(model, state, nu_dot=, qdd=)
     mass_matrix(model, state)                  end_effector_position(model, state)
+    simulate(model, initial_state, ...)        hydrodynamic_wrenches(model, state, ...)
+
+Names are imported on first use so that ``import uvms`` (and ``uvms --help``) stays fast.
 """
 
-from uvms.dynamics.api import Accelerations, bias_forces, forward_dynamics, inverse_dynamics, mass_matrix
-from uvms.kinematics import end_effector_position, forward_kinematics
-from uvms.model.model import Model
-from uvms.state import State
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from uvms import _cache  # noqa: F401  (sets numba's cache folder before anything compiles)
 
 __version__ = "0.1.0"
 
+_EXPORTS = {
+    "Accelerations": "uvms.dynamics.api",
+    "forward_dynamics": "uvms.dynamics.api",
+    "inverse_dynamics": "uvms.dynamics.api",
+    "mass_matrix": "uvms.dynamics.api",
+    "bias_forces": "uvms.dynamics.api",
+    "end_effector_position": "uvms.kinematics",
+    "forward_kinematics": "uvms.kinematics",
+    "Model": "uvms.model.model",
+    "load_model": "uvms.model.load",
+    "State": "uvms.state",
+    "simulate": "uvms.sim.run",
+    "Result": "uvms.sim.result",
+    "TorqueSchedule": "uvms.sim.inputs",
+    "hydrodynamic_wrenches": "uvms.hydro.inspect",
+}
 
-def load_model(name_or_path) -> Model:
-    """Load a bundled model by name (``"paper"``) or a model YAML file by path."""
-    from uvms.model.load import load_model as _load
-
-    return _load(name_or_path)
+__all__ = sorted(_EXPORTS) + ["__version__"]
 
 
-__all__ = [
-    "Accelerations", "Model", "State", "bias_forces", "end_effector_position", "forward_dynamics",
-    "forward_kinematics", "inverse_dynamics", "load_model", "mass_matrix", "__version__",
-]
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(_EXPORTS[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'uvms' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return __all__

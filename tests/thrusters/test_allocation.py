@@ -147,3 +147,19 @@ def test_layouts():
         Thruster("t", (0, 0, 0), (0, 0, 0))
     with pytest.raises(UvmsInputError):
         Thruster("t", (0, 0, 0), (1, 0, 0), model="first_order", parameters=layout()[0].parameters)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(7, 10))
+def test_redundant_saturated_allocation_keeps_wrench_and_lowers_norm(seed, m):
+    from scipy.optimize import lsq_linear
+
+    rng = np.random.default_rng(seed)
+    L = random_layout(rng, m)
+    lower, upper = -rng.uniform(1, 20, m), rng.uniform(1, 20, m)
+    wrench = L @ rng.uniform(-30, 30, m) + rng.normal(size=6)
+    result = allocate(L, wrench, lower, upper)
+    bvls = lsq_linear(L, wrench, bounds=(lower, upper), method="bvls", tol=1e-14).x
+    assert np.all(result.thrust >= lower) and np.all(result.thrust <= upper)
+    np.testing.assert_allclose(result.achieved, L @ bvls, atol=1e-7 * max(1.0, np.linalg.norm(wrench)))
+    assert np.linalg.norm(result.thrust) <= np.linalg.norm(bvls) + 1e-9

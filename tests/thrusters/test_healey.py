@@ -55,7 +55,7 @@ def reference_thrust_torque(Omega, U):
 def simulated_thrust(V: float, duration: float):
     """Times, Omega, U and thrust of a step from rest, sampled every 10 us."""
     sol = simulate(V, duration)
-    t = np.linspace(0.0, duration, int(round(duration / 1e-5)) + 1)
+    t = np.linspace(0.0, duration, round(duration / 1e-5) + 1)
     Omega, U = sol.sol(t)
     return t, Omega, U, reference_thrust_torque(Omega, U)[0]
 
@@ -247,8 +247,16 @@ def test_recommended_step_is_accurate():
 # --- parameters and the command ----------------------------------------------------------------------------------
 
 def test_parameters_validate_and_flatten():
-    assert PARAMS.as_array().shape == (14,)
-    assert PARAMS.as_array()[1] == pytest.approx(math.radians(24.4))
+    from uvms.thrusters import healey
+
+    flat = PARAMS.as_array()
+    assert flat.shape == (healey.N_PARAMETERS,)
+    for index, value in [(healey.P_RADIUS, 0.05), (healey.P_PITCH, math.radians(24.4)), (healey.P_LIFT, 0.30),
+                         (healey.P_DRAG, 0.50), (healey.P_DUCT_LENGTH, 0.10), (healey.P_GAMMA, 1.0),
+                         (healey.P_DBETA, 1.0), (healey.P_KT, 0.0588), (healey.P_KE, 0.0588),
+                         (healey.P_RESISTANCE, 0.29), (healey.P_FRICTION, 2e-5), (healey.P_INERTIA, 5e-4),
+                         (healey.P_VMAX, 24.0), (healey.P_DENSITY, 1000.0)]:
+        assert flat[index] == pytest.approx(value, rel=1e-12)
     with pytest.raises(ValueError):
         HealeyParameters(radius=-1.0)
     with pytest.raises(ValueError):
@@ -267,3 +275,17 @@ def test_thruster_curve_command(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "+51.80" in out and "-51.80" in out and "31.3" in out
     assert figure.stat().st_size > 10_000
+
+
+def test_bank_matches_single_thruster_kernels():
+    from uvms.thrusters.healey import healey_bank_derivatives
+
+    rng = np.random.default_rng(3)
+    other = HealeyParameters(radius=0.06, inertia=8e-4)
+    params = np.stack([P, other.as_array(), P])
+    Omega, U, V = rng.uniform(-300, 300, 3), rng.uniform(-2, 2, 3), rng.uniform(-24, 24, 3)
+    dOmega, dU, thrust = np.empty(3), np.empty(3), np.empty(3)
+    healey_bank_derivatives(params, Omega, U, V, dOmega, dU, thrust)
+    for h in range(3):
+        assert (dOmega[h], dU[h]) == healey_derivatives(params[h], Omega[h], U[h], V[h])
+        assert thrust[h] == healey_thrust_torque(params[h], Omega[h], U[h])[0]

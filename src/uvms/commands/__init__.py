@@ -7,4 +7,6 @@ Add a subcommand by adding its module name to :data:`COMMANDS`.
 
 COMMANDS: tuple[str, ...] = (
     "validate",
+    "thruster_curve",
+    "run", "plot",
 )

@@ -30,8 +30,8 @@ def run(args: argparse.Namespace) -> int:
         raise UvmsInputError(f"must be positive, got {args.step}", path="--step")
     curve = thrust_curve(params, default_voltages(params, args.step))
 
-    table = Table(title="Healey thruster, default parameters: steady state and 63 % rise time from rest")
-    for header in ("V [V]", "Omega [rad/s]", "U [m/s]", "T [N]", "rise time [ms]"):
+    table = Table(title="Healey thruster (defaults): steady state, 63 % rise from rest")
+    for header in ("V [V]", "Omega [rad/s]", "U [m/s]", "T [N]", "t63 [ms]"):
         table.add_column(header, justify="right")
     for v, w, u, t, r in zip(curve.voltage, curve.omega, curve.inflow, curve.thrust, curve.rise_time):
         table.add_row(f"{v:+.1f}", f"{w:+.1f}", f"{u:+.3f}", f"{t:+.2f}", "-" if math.isnan(r) else f"{r * 1e3:.1f}")

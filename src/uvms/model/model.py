@@ -159,3 +159,19 @@ class Model:
             vehicle_rotational_drag_coefficient=self.vehicle_rotational_drag_coefficient * drag,
             link_drag_coefficient=self.link_drag_coefficient * drag,
         )
+
+    def vehicle_only(self) -> "Model":
+        """The vehicle alone (body 0, no arm): for vehicle-only controller models and Fossen comparisons."""
+        return Model(
+            name=f"{self.name}-vehicle", source=self.source, body_names=self.body_names[:1],
+            mass=self.mass[:1], com=self.com[:1], inertia_com=self.inertia_com[:1], added_mass=self.added_mass[:1],
+            buoyancy_mass=self.buoyancy_mass[:1], cob=self.cob[:1], vehicle_drag_area=self.vehicle_drag_area,
+            vehicle_drag_coefficient=self.vehicle_drag_coefficient,
+            vehicle_rotational_drag_side=self.vehicle_rotational_drag_side,
+            vehicle_rotational_drag_coefficient=self.vehicle_rotational_drag_coefficient,
+            vehicle_box=self.vehicle_box, link_radius=np.zeros(0), link_length=np.zeros(0),
+            link_drag_coefficient=np.zeros(0), joint_rotation=np.zeros((0, 3, 3)), joint_position=np.zeros((0, 3)),
+            theta_offset=np.zeros(0), ee_rotation=np.eye(3), ee_position=np.zeros(3), density=self.density,
+            gravity=self.gravity, current=self.current, fluid_acceleration=self.fluid_acceleration,
+            thrusters=self.thrusters,
+        )

@@ -122,7 +122,7 @@ def allocate(Lambda: np.ndarray, wrench: np.ndarray, lower: np.ndarray | float, 
     if np.any(thrust < lower) or np.any(thrust > upper):
         from scipy.optimize import lsq_linear
 
-        fit = lsq_linear(A, b, bounds=(lower, upper), method="trf", tol=1e-14)
+        fit = lsq_linear(A, b, bounds=(lower, upper), method="bvls", tol=1e-14)
         thrust = np.clip(fit.x, lower, upper)
         if np.linalg.matrix_rank(A) < m:  # redundant thrusters: the minimiser is not unique
             thrust = _minimum_norm_refinement(A, thrust, lower, upper)
@@ -137,22 +137,28 @@ def allocate(Lambda: np.ndarray, wrench: np.ndarray, lower: np.ndarray | float, 
 
 
 def _minimum_norm_refinement(Lambda, thrust, lower, upper):
-    """Minimum ``|T|`` with ``Lambda T = Lambda thrust`` and ``lower <= T <= upper`` (QP by SLSQP)."""
+    """Minimum ``|T|`` with ``Lambda T = Lambda thrust`` and ``lower <= T <= upper`` (QP by SLSQP).
+
+    The equality is imposed on the ``rank`` independent combinations ``V_r^T T`` (``Lambda = U S V^T``).
+    """
     from scipy.optimize import minimize
 
-    target = Lambda @ thrust
+    _, s, Vt = np.linalg.svd(Lambda)
+    rows = Vt[: int(np.sum(s > 1e-10 * max(1.0, s.max(initial=0.0))))]  # (rank, m)
     limits = np.concatenate([lower, upper, thrust])
     scale = max(1.0, float(np.max(np.abs(limits[np.isfinite(limits)]))))  # solve in O(1) units
+    target = rows @ thrust / scale
     bounds = [(lo / scale if np.isfinite(lo) else None, hi / scale if np.isfinite(hi) else None)
               for lo, hi in zip(lower, upper)]
     result = minimize(
         lambda x: 0.5 * float(x @ x), thrust / scale, jac=lambda x: x, method="SLSQP", bounds=bounds,
-        constraints=[{"type": "eq", "fun": lambda x: Lambda @ x - target / scale, "jac": lambda x: Lambda}],
-        options={"ftol": 1e-15, "maxiter": 500},
+        constraints=[{"type": "eq", "fun": lambda x: rows @ x - target, "jac": lambda x: rows}],
+        options={"ftol": 1e-16, "maxiter": 500},
     )
     candidate = np.clip(result.x * scale, lower, upper)
+    achieved = Lambda @ thrust
     # Keep the refinement only if it keeps the achieved wrench and lowers the norm.
-    if (np.linalg.norm(Lambda @ candidate - target) <= 1e-9 * max(1.0, np.linalg.norm(target))
+    if (np.linalg.norm(Lambda @ candidate - achieved) <= 1e-9 * max(1.0, np.linalg.norm(achieved))
             and candidate @ candidate <= thrust @ thrust):
         return candidate
     return thrust

@@ -52,7 +52,7 @@ def default_voltages(params: HealeyParameters, step: float = 3.0) -> np.ndarray:
     """Voltages from ``-Vmax`` to ``+Vmax`` every ``step`` [V] (both limits included)."""
     if step <= 0:
         raise ValueError(f"voltage step must be positive, got {step}")
-    n = int(math.floor(params.max_voltage / step + 1e-9))
+    n = math.floor(params.max_voltage / step + 1e-9)
     half = np.arange(1, n + 1) * step
     if half.size == 0 or not math.isclose(half[-1], params.max_voltage):
         half = np.append(half, params.max_voltage)

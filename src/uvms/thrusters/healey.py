@@ -25,14 +25,15 @@ opposing the rotation; a locked rotor in positive inflow (``Omega = 0, U > 0``) 
 
 Steady state (closed form). With ``dU/dt = 0`` both sides of the duct balance scale with ``V_p^2``, so the
 flow angle at equilibrium is a constant ``theta*`` (root of ``0.5 f(theta) = dbeta sin^2 theta`` with
-``f = CLmax sin 2a cos(theta) - CDmax (1 - cos 2a) sin(theta)``), independent of the speed. Hence
+``f = CLmax sin 2a cos(theta) - CDmax (1 - cos 2a) sin(theta)``, ``a = p - theta``), independent of the speed. Hence
 ``U = 0.7 R tan(theta*) Omega``, ``T = k_T Omega |Omega|``, ``Q = k_Q Omega |Omega|`` and the motor balance
 ``V = (Ke + Ra Kf / Kt) Omega + (Ra k_Q / Kt) Omega |Omega|`` is a quadratic in ``Omega``. Both directions
 (voltage -> thrust, thrust -> inflow -> speed -> voltage) are explicit.
 
 Default parameters (``shared/conventions.md``; the paper gives none) give 51.80 N at 24 V, 16.03 N at 12 V
-and a 63 % thrust rise time of 31.3 ms after a 24 V step from rest (33.5 ms after a 1 V step: near zero
-thrust the slow pole goes to zero). The largest stable explicit RK4 step is 30.1 ms, set by the full-thrust
+and a 63 % thrust rise time of 31.3 ms after a 24 V step from rest. Near zero thrust the response is
+slower: the slow (duct) pole goes to zero with the speed, so a 1 V step rises in 33.5 ms, overshoots by 65 %
+and settles in about 250 ms (time constant). The largest stable explicit RK4 step is 30.1 ms, set by the full-thrust
 equilibrium (:data:`RK4_STABILITY_LIMIT`); use at most :data:`RECOMMENDED_MAX_STEP` = 10 ms. See
 ``docs/thrusters.md``.
 
@@ -43,6 +44,7 @@ integration loop.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, fields
 
@@ -162,6 +164,20 @@ def healey_derivatives(p: np.ndarray, Omega: float, U: float, V: float) -> tuple
 
 
 @njit(cache=True)
+def healey_bank_derivatives(params: np.ndarray, Omega: np.ndarray, U: np.ndarray, V: np.ndarray,
+                            dOmega_out: np.ndarray, dU_out: np.ndarray, thrust_out: np.ndarray) -> None:
+    """Derivatives and thrusts of ``m`` thrusters at once, written into the ``*_out`` (m,) arrays.
+
+    ``params`` (m, N_PARAMETERS) stacks each thruster's :meth:`HealeyParameters.as_array`; ``Omega``, ``U``
+    and ``V`` are (m,). No allocation: meant for the compiled integration loop.
+    """
+    for h in range(Omega.shape[0]):
+        p = params[h]
+        dOmega_out[h], dU_out[h] = healey_derivatives(p, Omega[h], U[h], V[h])
+        thrust_out[h] = healey_thrust_torque(p, Omega[h], U[h])[0]
+
+
+@njit(cache=True)
 def healey_rk4_step(p: np.ndarray, Omega: float, U: float, V: float, h: float) -> tuple[float, float]:
     """One classical RK4 step of length ``h`` [s] at constant voltage ``V``; returns ``(Omega, U)``."""
     k1w, k1u = healey_derivatives(p, Omega, U, V)
@@ -224,14 +240,19 @@ def _steady_flow_angle(params: HealeyParameters) -> float:
     return 0.5 * (lo + hi)
 
 
+@functools.lru_cache(maxsize=64)
+def _steady_coefficients(params: HealeyParameters) -> tuple[float, float, float]:
+    inflow_per_speed = 0.7 * params.radius * math.tan(_steady_flow_angle(params))
+    k_T, k_Q = healey_thrust_torque(params.as_array(), 1.0, inflow_per_speed)
+    return k_T, k_Q, inflow_per_speed
+
+
 def steady_coefficients(params: HealeyParameters) -> np.ndarray:
     """``[k_T, k_Q, U/Omega]`` of the steady state: ``T = k_T Omega|Omega|``, ``Q = k_Q Omega|Omega|``.
 
-    Units: N s^2, N m s^2, m/rad.
+    Units: N s^2, N m s^2, m/rad. Cached per parameter set (the parameters are frozen).
     """
-    inflow_per_speed = 0.7 * params.radius * math.tan(_steady_flow_angle(params))
-    k_T, k_Q = healey_thrust_torque(params.as_array(), 1.0, inflow_per_speed)
-    return np.array([k_T, k_Q, inflow_per_speed])
+    return np.array(_steady_coefficients(params))
 
 
 def steady_state(params: HealeyParameters, V: float) -> tuple[float, float, float]:
@@ -291,7 +312,7 @@ def step_response(params: HealeyParameters, V: float, duration: float, dt: float
     """
     if duration <= 0 or dt <= 0 or max_substep <= 0:
         raise ValueError("duration, dt and max_substep must be positive")
-    n_samples = int(round(duration / dt)) + 1
+    n_samples = round(duration / dt) + 1
     substeps = max(1, math.ceil(dt / max_substep - 1e-9))
     out = np.empty((n_samples, 3))
     _simulate(params.as_array(), float(initial_omega), float(initial_inflow), float(V), n_samples, float(dt),

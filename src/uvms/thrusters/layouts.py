@@ -85,6 +85,7 @@ class Thruster:
     @property
     def max_thrust(self) -> float:
         """Largest steady thrust magnitude [N] (symmetric limits: the models are odd)."""
+        assert self.parameters is not None  # filled in by __post_init__
         return float(self.parameters.max_thrust)
 
 
