@@ -22,6 +22,20 @@ def _fingerprint(package_dir: Path) -> str:
     return h.hexdigest()[:16]
 
 
+def _prune(base: Path, keep: Path, max_age_s: float = 7 * 86400.0) -> None:
+    """Remove cache folders of other source versions unused for a week."""
+    import shutil
+    import time
+
+    now = time.time()
+    for other in base.glob("numba-*"):
+        try:
+            if other != keep and now - other.stat().st_mtime > max_age_s:
+                shutil.rmtree(other, ignore_errors=True)
+        except OSError:
+            pass
+
+
 def configure() -> None:
     """Point numba's cache at ``<cache home>/uvms/numba-<fingerprint>`` unless the user chose a folder."""
     if os.environ.get("NUMBA_CACHE_DIR"):
@@ -32,6 +46,7 @@ def configure() -> None:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError:
         return
+    _prune(base, keep=folder)
     os.environ["NUMBA_CACHE_DIR"] = str(folder)
     if "numba" in sys.modules:
         from numba.core import config

@@ -26,7 +26,7 @@ def link_poses(km, R0, p0, q, R_out, p_out, E, X):
     for i in range(1, nb + 1):
         if i < nb:
             p = km.parent[i]
-            joint_transform(km, i, q[i - 1], E, X)
+            joint_transform(km.tree_E[i], km.tree_r[i], q[i - 1] + km.theta_offset[i], E, X)
             r = km.tree_r[i]
         else:
             p = nb - 1

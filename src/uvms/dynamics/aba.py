@@ -31,7 +31,7 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
     """Write ``nu_dot`` (6) and ``qdd`` (n) for the state and inputs; see the module docstring."""
     nb = km.parent.shape[0]
     outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid)
-    apply_external(km, ws, f_body, f_ee)
+    apply_external(km.ee_E, km.ee_r, ws.pA, f_body, f_ee, ws.m6[0])
 
     # -- pass 2: articulated inertias and bias forces, tip to base (Eqs. 13-14)
     Ia = ws.m6[1]

@@ -22,7 +22,7 @@ def crba(km, ws, q, M):
     nb = km.parent.shape[0]
     for i in range(nb):
         if i > 0:
-            joint_transform(km, i, q[i - 1], ws.E[i], ws.Xup[i])
+            joint_transform(km.tree_E[i], km.tree_r[i], q[i - 1] + km.theta_offset[i], ws.E[i], ws.Xup[i])
         for r in range(6):
             for k in range(6):
                 ws.IA[i, r, k] = km.inertia_h[i, r, k]

@@ -25,7 +25,7 @@ def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_ou
     zero = ws.w6[3]
     for k in range(6):
         zero[k] = 0.0
-    apply_external(km, ws, zero, f_ee)
+    apply_external(km.ee_E, km.ee_r, ws.pA, zero, f_ee, ws.m6[0])
     h = ws.w6[0]
 
     # -- outward: accelerations and body forces f_i = I^H a_i + p_i

@@ -74,16 +74,21 @@ def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None,
     f = np.zeros((4, 6))
     scratch = np.zeros((2, 6))
     zero3 = np.zeros(3)
+
+    def forces(i, af):
+        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.link_drag[i],
+                          km.link_length[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], ws.v[i],
+                          ws.vc[i], af, ws.g[i], f, scratch)
+
     for i in range(nb):
-        v, vc, af, g = ws.v[i], ws.vc[i], ws.af[i], ws.g[i]
         # velocity terms alone (no fluid acceleration), then the fluid-acceleration part as the difference
-        body_hydro_forces(km, i, v, vc, zero3, g, f[0], f[1], f[2], f[3], scratch)
+        forces(i, zero3)
         out["added_mass_velocity"][i] = f[0]
         out["drag"][i] = f[1]
         out["buoyancy"][i] = f[2]
         out["gravity"][i] = f[3]
         rel[i] = scratch[0]
-        body_hydro_forces(km, i, v, vc, af, g, f[0], f[1], f[2], f[3], scratch)
+        forces(i, ws.af[i])
         out["fluid_acceleration"][i] = (f[0] - out["added_mass_velocity"][i]) + (f[2] - out["buoyancy"][i])
         out["added_mass_inertial"][i] = -km.added_mass[i] @ a[i]
     return HydrodynamicWrenches(body_names=model.body_names, wrenches=out, relative_velocity=rel)

@@ -86,7 +86,7 @@ def interpolate(table_t, table_v, t, out):
         out[k] = (1.0 - s) * table_v[lo, k] + s * table_v[hi, k]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, command, env_t, env_vc, env_af, fixed_base, xdot,
                      R, vecs, thrust):
     """``xdot = f(t, x)`` for held inputs. ``R`` (3x3), ``vecs`` (5, 6) and ``thrust`` (m) are scratch."""
