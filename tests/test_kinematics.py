@@ -27,7 +27,7 @@ def test_end_effector_hand_computed(paper, q, expected):
 def test_end_effector_follows_the_vehicle_pose(paper):
     s = uvms.State.from_euler(paper, position=[1.0, 2.0, 3.0], euler=[0.0, 0.0, np.pi / 2])
     np.testing.assert_allclose(uvms.end_effector_position(paper, s), [1.0, 2.66, 3.0], atol=1e-12)
-    s = uvms.State.from_euler(paper, euler=[0.0, -np.pi / 2, 0.0])       # nose up (z down): x axis to -z
+    s = uvms.State.from_euler(paper, euler=[0.0, np.pi / 2, 0.0])        # pitch +90 deg: nose up, x axis to -z
     np.testing.assert_allclose(uvms.end_effector_position(paper, s), [0.0, 0.0, -0.66], atol=1e-12)
 
 
