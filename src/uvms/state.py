@@ -66,6 +66,20 @@ class State:
         )
 
     @classmethod
+    def trusted(cls, position, quaternion, nu, q, qd, actuator) -> "State":
+        """A state from arrays the integrator produced (already checked and normalised): no validation.
+
+        For the simulation loop only; user code should use the constructor or :meth:`from_euler`.
+        """
+        obj = object.__new__(cls)
+        for name, value in (("position", position), ("quaternion", quaternion), ("nu", nu), ("q", q), ("qd", qd),
+                            ("actuator", actuator)):
+            a = np.array(value, dtype=float)
+            a.setflags(write=False)
+            object.__setattr__(obj, name, a)
+        return obj
+
+    @classmethod
     def zero(cls, model) -> "State":
         """The vehicle at the world origin, level, at rest, joints at zero."""
         return cls.from_euler(model)

@@ -43,8 +43,7 @@ def unpack(x: np.ndarray, n_joints: int):
     from uvms.state import State
 
     n = n_joints
-    return State(position=x[0:3], quaternion=x[3:7], nu=x[7:13], q=x[13:13 + n], qd=x[13 + n:13 + 2 * n],
-                 actuator=x[13 + 2 * n:])
+    return State.trusted(x[0:3], x[3:7], x[7:13], x[13:13 + n], x[13 + n:13 + 2 * n], x[13 + 2 * n:])
 
 
 @njit(cache=True)

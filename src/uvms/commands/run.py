@@ -1,0 +1,172 @@
+"""``uvms run SCENARIO [-o DIR]``: simulate a scenario file and save its results.
+
+Writes ``DIR/result.csv`` (time series), ``DIR/result.json`` (summary and metadata) and ``DIR/scenario.yaml``
+(the scenario file, verbatim). Nothing is written before the scenario is valid; the results go to a hidden
+temporary sibling of ``DIR`` that is renamed into place at the end, so an interrupted run never leaves a
+half-written ``DIR``. A diverging run still saves what it computed (``"complete": false``) and exits 3.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+NAME = "run"
+HELP = "simulate a scenario file (or a bundled scenario name) and save result.csv, result.json and scenario.yaml"
+
+PROGRESS_AFTER = 1.0
+"""Wall time [s] after which a progress bar appears (on a terminal only)."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Register the arguments of ``uvms run``."""
+    parser.add_argument("scenario", metavar="SCENARIO",
+                        help="scenario YAML file, or a bundled scenario name (e.g. paper_case2_released)")
+    parser.add_argument("-o", "--output", metavar="DIR", default=None,
+                        help="output directory (default: runs/<scenario name>); a previous run there is replaced")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Validate, simulate, save atomically, summarise; 0 on success, 3 when the simulation diverged."""
+    from rich.console import Console
+
+    from uvms.sim.result import atomic_write_text
+    from uvms.sim.scenario import load_scenario, run_scenario
+
+    scenario = load_scenario(args.scenario)
+    out = Path(args.output) if args.output else Path("runs") / scenario.name
+    _check_output(out)
+
+    progress = _Progress(scenario.name)
+    try:
+        result = run_scenario(scenario, progress=progress)
+    finally:
+        progress.close()
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    try:
+        result.save(tmp)
+        atomic_write_text(tmp / "scenario.yaml", scenario.text)
+        _usual_permissions(tmp)
+        _move_into_place(tmp, out)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+    console = Console()
+    console.print(_summary_table(result, scenario.name))
+    state = "saved" if result.complete else "saved (incomplete run)"
+    console.print(f"results {state} to {out}/ (result.csv, result.json, scenario.yaml)", highlight=False,
+                  soft_wrap=True)
+    if not result.complete:
+        print(f"uvms: error: {result.message}", file=sys.stderr)
+        return 3
+    return 0
+
+
+def _check_output(out: Path) -> None:
+    """Refuse an output path that is a file, or a non-empty directory that is not a previous run."""
+    from uvms.errors import UvmsInputError
+
+    if out.exists() and not out.is_dir():
+        raise UvmsInputError("expected a directory, found a file", str(out), "--output")
+    if out.is_dir() and any(out.iterdir()) and not (out / "result.json").exists():
+        raise UvmsInputError("exists and is not a uvms run directory (no result.json); choose another directory",
+                             str(out), "--output")
+    if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
+        raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
+                             "--output")
+
+
+def _usual_permissions(directory: Path) -> None:
+    """Give the directory and its files the permissions the umask allows (temporary files start private)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    directory.chmod(0o777 & ~umask)
+    for path in directory.iterdir():
+        path.chmod(0o666 & ~umask)
+
+
+def _move_into_place(tmp: Path, out: Path) -> None:
+    """Rename the finished ``tmp`` directory to ``out``, replacing a previous run there."""
+    if out.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
+        os.replace(out, old / "run")
+        os.replace(tmp, out)
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        os.replace(tmp, out)
+
+
+class _Progress:
+    """A rich progress bar on stderr that appears once a run has taken :data:`PROGRESS_AFTER` seconds."""
+
+    def __init__(self, label: str) -> None:
+        from rich.console import Console
+
+        self.label = label
+        self.console = Console(stderr=True)
+        self.start = time.perf_counter()
+        self.bar: Any = None
+        self.task: Any = None
+
+    def __call__(self, t: float, duration: float) -> None:
+        if self.bar is None:
+            if not self.console.is_terminal or time.perf_counter() - self.start < PROGRESS_AFTER:
+                return
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+            self.bar = Progress(TextColumn("{task.description}"), BarColumn(),
+                                TextColumn("{task.completed:.2f} / {task.total:g} s"), TimeElapsedColumn(),
+                                TimeRemainingColumn(), console=self.console, transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task(self.label, total=duration)
+        self.bar.update(self.task, completed=t)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+
+
+def _summary_table(result, name: str):
+    """Peaks, final state and wall time of a run as a rich table."""
+    import numpy as np
+    from rich.table import Table
+
+    s = result.summary()
+    fin = s["final"]
+    meta = s["metadata"]
+
+    def vec(values, scale=1.0, fmt="{:+.4f}"):
+        return "[" + ", ".join(fmt.format(v * scale) for v in values) + "]" if len(values) else "-"
+
+    deg = 180.0 / np.pi
+    table = Table(title=f"{name}: {'complete' if result.complete else 'INCOMPLETE'}", show_header=True)
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    table.add_column("unit")
+    rows = [
+        ("simulated time", f"{fin['time_s']:.4g} / {meta.get('duration_s', float('nan')):.4g}", "s"),
+        ("integrator, step", f"{meta.get('integrator')}, {meta.get('step_s', float('nan')):g}", "s"),
+        ("wall time", f"{meta.get('wall_time_s', float('nan')):.3g}", "s"),
+        ("samples", f"{len(result.time)}", ""),
+        ("peak |vehicle displacement| x, y, z", vec(s["peak_abs_position_m"]), "m"),
+        ("peak |Euler change| roll, pitch, yaw", vec(s["peak_abs_euler_rad"], deg, "{:.3f}"), "deg"),
+        ("peak body-frame XY error", f"{s['peak_body_error_xy_m']:.4g}", "m"),
+        ("final vehicle position", vec(fin["position_m"]), "m"),
+        ("final Euler angles", vec(fin["euler_rad"], deg, "{:+.3f}"), "deg"),
+        ("final joint angles", vec(fin["q_rad"]), "rad"),
+        ("final end effector", vec(fin["end_effector_m"]), "m"),
+    ]
+    for key, value in sorted(s["peak_abs_signal"].items()):
+        if key in ("command_X", "command_Y", "command_Z", "command_K", "command_M", "command_N"):
+            rows.append((f"peak |{key}|", f"{value:.4g}", "N m" if key[-1] in "KMN" else "N"))
+    for row in rows:
+        table.add_row(*row)
+    return table

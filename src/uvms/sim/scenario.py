@@ -1,0 +1,557 @@
+"""Scenario files: what to simulate (model, duration, integrator, inputs, controller, actuators) in one YAML file.
+
+A scenario is validated like a model file (pydantic v2, unknown keys rejected, one-line errors naming the file
+and the dotted field path), then checked against its model (joint count of torque vectors and initial joint
+angles, controller name). ``docs/scenarios.md`` documents every field; the bundled scenarios
+(``uvms/scenarios/*.yaml``, loadable by name) are the paper's three cases of Section 6.
+
+    scenario = load_scenario("paper_case2_released")     # or a path
+    result = run_scenario(scenario)                       # -> uvms.sim.result.Result
+
+Numbers may be written ``1e-3``: PyYAML reads that (YAML 1.1) as a string, so numeric strings are accepted.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from importlib.resources import files
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+from pydantic_core import PydanticCustomError
+
+from uvms.errors import UvmsInputError
+from uvms.model.load import bundled_models, load_model, read_yaml, validation_input_error
+from uvms.model.model import Model
+from uvms.model.schema import fail, show
+from uvms.sim.inputs import CurrentTable, TorqueSchedule
+from uvms.sim.result import Result
+from uvms.state import State
+
+_SCENARIOS = files("uvms") / "scenarios"
+
+INTEGRATORS = ("rk4", "DOP853", "LSODA", "Radau", "RK45")
+"""``rk4``: compiled fixed-step RK4; the others: ``scipy.integrate.solve_ivp`` methods."""
+
+# ---------------------------------------------------------------------------------------------- field types
+
+
+def _as_number(value: Any) -> float | None:
+    """A finite float from a number or a numeric string (``1e-3``), else ``None``."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, str) and re.fullmatch(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*", value):
+        value = float(value)
+    if isinstance(value, (int, float)) and math.isfinite(value):
+        return float(value)
+    return None
+
+
+def _number(value: Any) -> float:
+    number = _as_number(value)
+    if number is None:
+        raise fail(f"expected a finite number, found {show(value)}")
+    return number
+
+
+def _numbers(size: int | None = None) -> BeforeValidator:
+    """Accept a list of finite numbers (exactly ``size`` of them if given) as a tuple of floats."""
+    what = "a list of " + (f"{size} finite numbers" if size else "finite numbers")
+
+    def check(value: Any) -> tuple[float, ...]:
+        if isinstance(value, (list, tuple)) and (len(value) == size if size else len(value) > 0):
+            numbers = [_as_number(x) for x in value]
+            if all(x is not None for x in numbers):
+                return tuple(float(x) for x in numbers if x is not None)
+        raise fail(f"expected {what}, found {show(value)}")
+
+    return BeforeValidator(check)
+
+
+Number = Annotated[float, BeforeValidator(_number)]
+Positive = Annotated[float, BeforeValidator(_number), Field(gt=0)]
+NonNegative = Annotated[float, BeforeValidator(_number), Field(ge=0)]
+Vec3 = Annotated[tuple[float, float, float], _numbers(3)]
+Vec6 = Annotated[tuple[float, float, float, float, float, float], _numbers(6)]
+Vector = Annotated[tuple[float, ...], _numbers()]
+
+
+def _run_name(value: Any) -> str:
+    if isinstance(value, str) and re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._+-]{0,99}", value):
+        return value
+    raise fail("expected a name of up to 100 letters, digits and . _ + - (it names the run directory), "
+               f"found {show(value)}")
+
+
+RunName = Annotated[str, BeforeValidator(_run_name)]
+ZERO3 = (0.0, 0.0, 0.0)
+ZERO6 = ZERO3 + ZERO3
+
+_UNION_TAGS = ("list", "mapping")
+"""Tags of this schema's list-or-mapping unions; left out of the field paths of error messages."""
+
+
+def _list_or_mapping(value: Any) -> str:
+    return "mapping" if isinstance(value, dict) else "list"
+
+
+class Spec(BaseModel):
+    """Base of every scenario schema model: frozen, unknown keys rejected."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+# ---------------------------------------------------------------------------------------------- schema
+
+
+class EnvironmentOverrides(Spec):
+    """Replace the model file's environment (``None``: keep the model's value)."""
+
+    current: Vec3 | None = None                   # constant current velocity, world frame [m/s]
+    density: Positive | None = None               # rho [kg/m^3]; added and displaced mass scale with it
+    gravity: Vec3 | None = None                   # a_g, world frame (z down) [m/s^2]
+
+
+class ModelOverrides(Spec):
+    """Changes applied to the loaded model (the file itself is never modified)."""
+
+    added_mass_scale: NonNegative = 1.0           # multiplies every added-mass matrix [-]
+    drag_scale: NonNegative = 1.0                 # multiplies every drag coefficient [-]
+    environment: EnvironmentOverrides = EnvironmentOverrides()
+
+
+class Tolerances(Spec):
+    """Error tolerances of the adaptive integrators (ignored by ``rk4``)."""
+
+    rtol: Positive = 1e-10
+    atol: Positive = 1e-12
+
+
+class InitialStateSpec(Spec):
+    """Initial state; every part defaults to zero (the paper's Section 6)."""
+
+    position: Vec3 = ZERO3                        # vehicle position, world [m]
+    euler: Vec3 = ZERO3                           # ZYX Euler angles (roll, pitch, yaw) [rad]
+    nu: Vec6 = ZERO6                              # body velocity [p q r u v w] [rad/s, m/s]
+    q: Vector | None = None                       # joint angles (n) [rad]
+    qd: Vector | None = None                      # joint rates (n) [rad/s]
+
+
+class TorqueStep(Spec):
+    """One row of a piecewise-constant schedule: ``torques`` [N m] from time ``from`` [s] on."""
+
+    start: NonNegative = Field(alias="from")
+    torques: Vector
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        return _only_keys(data, "from", "torques")  # the generic message would list 'start', not 'from'
+
+
+class ConstantTorques(Spec):
+    """Constant joint torques [N m] for the whole run."""
+
+    constant: Vector
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        return _only_keys(data, "constant")  # the generic message cannot tell the union's two forms apart
+
+
+def _only_keys(data: Any, *keys: str) -> Any:
+    if isinstance(data, dict):
+        for key in data:
+            if key not in keys:
+                raise fail(f"unknown key; expected one of: {', '.join(keys)}", str(key))
+    return data
+
+
+def _schedule_order(steps: tuple[TorqueStep, ...]) -> tuple[TorqueStep, ...]:
+    if not steps:
+        raise fail("expected at least one {from: t, torques: [...]} entry, found an empty list")
+    if steps[0].start != 0.0:
+        raise fail(f"expected the first entry to start at 'from: 0', found from: {steps[0].start:g}")
+    for k in range(1, len(steps)):
+        if steps[k].start <= steps[k - 1].start:
+            raise _fail_at(k, f"expected 'from' times in increasing order, found {steps[k].start:g} after "
+                              f"{steps[k - 1].start:g}")
+    return steps
+
+
+def _fail_at(index: int, message: str) -> PydanticCustomError:
+    """:func:`~uvms.model.schema.fail` for list item ``index`` (the field path gets ``[index]``)."""
+    return PydanticCustomError("uvms", "{message}", {"message": message, "subpath": index})
+
+
+def _joint_torques_form(value: Any) -> Any:
+    if not isinstance(value, (list, tuple, dict)):
+        raise fail("expected a list of {from: t, torques: [...]} entries or a mapping {constant: [...]}, "
+                   f"found {show(value)}")
+    return value
+
+
+JointTorques = Annotated[
+    Annotated[tuple[TorqueStep, ...], AfterValidator(_schedule_order), Tag("list")]
+    | Annotated[ConstantTorques, Tag("mapping")],
+    Discriminator(_list_or_mapping),
+    BeforeValidator(_joint_torques_form),
+]
+
+
+class CurrentTableSpec(Spec):
+    """World current velocity [m/s] at ``times`` [s], linear in between and held outside."""
+
+    times: Vector
+    velocity: tuple[Vec3, ...]
+    acceleration: tuple[Vec3, ...] | None = None  # fluid acceleration a_f [m/s^2]; default: d(velocity)/dt
+
+    @model_validator(mode="after")
+    def _consistent(self) -> CurrentTableSpec:
+        if any(t < 0 for t in self.times) or any(b <= a for a, b in zip(self.times, self.times[1:])):
+            raise fail(f"expected times >= 0 in increasing order, found {show(list(self.times))}", "times")
+        for name in ("velocity", "acceleration"):
+            rows = getattr(self, name)
+            if rows is not None and len(rows) != len(self.times):
+                raise fail(f"expected one row per time ({len(self.times)}), found {len(rows)}", name)
+        return self
+
+
+class CurrentSpec(Spec):
+    """A constant current or a table in time (exactly one of them)."""
+
+    constant: Vec3 | None = None                  # world frame [m/s]
+    table: CurrentTableSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_form(self) -> CurrentSpec:
+        if (self.constant is None) == (self.table is None):
+            found = "both" if self.constant is not None else "neither"
+            raise fail(f"expected exactly one of 'constant' or 'table', found {found}")
+        return self
+
+
+class InputsSpec(Spec):
+    """External inputs, held between updates (zero-order hold)."""
+
+    joint_torques: JointTorques | None = None     # [N m]; default: zero
+    body_wrench: Vec6 = ZERO6                     # on the vehicle, body axes [moment; force] [N m, N]
+    ee_wrench: Vec6 = ZERO6                       # on the end effector, its axes [moment; force] [N m, N]
+    current: CurrentSpec | None = None            # default: the model's environment current
+
+    def torque_schedule(self) -> TorqueSchedule | None:
+        """The joint torques as a :class:`TorqueSchedule` (``None``: zero)."""
+        tau = self.joint_torques
+        if tau is None:
+            return None
+        if isinstance(tau, ConstantTorques):
+            return TorqueSchedule.constant(tau.constant)
+        return TorqueSchedule(times=np.array([s.start for s in tau]), torques=np.array([s.torques for s in tau]))
+
+    def torque_vectors(self) -> list[tuple[str, tuple[float, ...]]]:
+        """Every torque vector with its field path (for the joint-count check)."""
+        tau = self.joint_torques
+        if tau is None:
+            return []
+        if isinstance(tau, ConstantTorques):
+            return [("inputs.joint_torques.constant", tau.constant)]
+        return [(f"inputs.joint_torques[{k}].torques", s.torques) for k, s in enumerate(tau)]
+
+
+class ControllerSpec(Spec):
+    """A vehicle controller from :mod:`uvms.control.registry`."""
+
+    name: Annotated[str, Field(min_length=1)]
+    period: Positive = 0.01                       # update period, zero-order hold in between [s]
+    parameters: dict[str, Any] = {}               # passed to the registry's factory as they are
+
+
+class OutputsSpec(Spec):
+    """What is recorded."""
+
+    record_period: Positive | None = None         # [s]; default: every step (at most 20 000 samples)
+
+
+class ScenarioSpec(Spec):
+    """A whole scenario file."""
+
+    name: RunName | None = None                   # default: the file name without .yaml
+    description: str | None = None
+    model: Annotated[str, Field(min_length=1)]    # bundled model name or a path (relative: to this file)
+    model_overrides: ModelOverrides = ModelOverrides()
+    duration: Positive                            # [s]
+    step: Positive = 0.001                        # RK4 step; recording grid of the adaptive integrators [s]
+    integrator: Literal["rk4", "DOP853", "LSODA", "Radau", "RK45"] = "rk4"
+    tolerances: Tolerances = Tolerances()
+    vehicle: Literal["released", "fixed"] = "released"
+    initial_state: InitialStateSpec = InitialStateSpec()
+    inputs: InputsSpec = InputsSpec()
+    controller: ControllerSpec | None = None
+    actuators: str = "ideal"                      # thruster layout (uvms.thrusters.layouts)
+    outputs: OutputsSpec = OutputsSpec()
+
+    @field_validator("actuators")
+    @classmethod
+    def _known_layout(cls, name: str) -> str:
+        from uvms.thrusters.layouts import layout_names
+
+        if name not in layout_names():
+            raise fail(f"expected one of {', '.join(repr(n) for n in layout_names())}, found {show(name)}")
+        return name
+
+    @model_validator(mode="after")
+    def _consistent(self) -> ScenarioSpec:
+        if self.step > self.duration:
+            raise fail(f"expected a step <= duration ({self.duration:g} s), found {self.step:g} s", "step")
+        if self.controller is not None and self.controller.period < self.step:
+            raise fail(f"expected a period >= step ({self.step:g} s), found {self.controller.period:g} s",
+                       "controller.period")
+        if self.outputs.record_period is not None and self.outputs.record_period < self.step:
+            raise fail(f"expected a record period >= step ({self.step:g} s), found {self.outputs.record_period:g} s",
+                       "outputs.record_period")
+        return self
+
+
+# ---------------------------------------------------------------------------------------------- scenario
+
+
+@dataclass(frozen=True, eq=False)
+class Scenario:
+    """A validated scenario and its resolved model.
+
+    Attributes:
+        spec: the validated file content.
+        model: the model with ``model_overrides`` applied.
+        source: the scenario file (``None`` when built from data).
+        sha256: hex digest of ``text``.
+        text: the file's text (copied verbatim next to results).
+    """
+
+    spec: ScenarioSpec
+    model: Model
+    source: str | None
+    sha256: str
+    text: str
+
+    @property
+    def name(self) -> str:
+        return self.spec.name or "scenario"
+
+    @property
+    def fixed_base(self) -> bool:
+        return self.spec.vehicle == "fixed"
+
+    def initial_state(self) -> State:
+        s = self.spec.initial_state
+        return State.from_euler(self.model, position=s.position, euler=s.euler, nu=s.nu, q=s.q, qd=s.qd)
+
+    def current(self) -> CurrentTable | None:
+        """The current input (``None``: the model's environment)."""
+        c = self.spec.inputs.current
+        if c is None:
+            return None
+        if c.table is None:
+            return CurrentTable.constant(c.constant, self.model.fluid_acceleration)
+        t = np.array(c.table.times, dtype=float)
+        v = np.array(c.table.velocity, dtype=float)
+        if c.table.acceleration is not None:
+            a = np.array(c.table.acceleration, dtype=float)
+        else:
+            a = np.gradient(v, t, axis=0) if t.size > 1 else np.zeros_like(v)
+        return CurrentTable(t, v, a)
+
+    def make_controller(self):
+        """A fresh controller from the registry (``None`` without one)."""
+        c = self.spec.controller
+        return None if c is None else _make_controller(c, self.model, self.source)
+
+
+def bundled_scenarios() -> list[str]:
+    """Names of the scenarios shipped with uvms (``uvms/scenarios/<name>.yaml``)."""
+    return sorted(e.name[: -len(".yaml")] for e in _SCENARIOS.iterdir() if e.name.endswith(".yaml"))
+
+
+def resolve_scenario_path(name_or_path: str | os.PathLike[str]) -> Path:
+    """An existing file path as given, else the bundled scenario of that name."""
+    path = Path(name_or_path)
+    if path.exists():
+        return path
+    if str(name_or_path) in bundled_scenarios():
+        return Path(str(_SCENARIOS / f"{name_or_path}.yaml"))
+    raise UvmsInputError(f"no such file or bundled scenario (bundled: {', '.join(bundled_scenarios())})",
+                         str(name_or_path))
+
+
+def load_scenario(name_or_path: str | os.PathLike[str]) -> Scenario:
+    """Load and validate a scenario: a bundled name (see :func:`bundled_scenarios`) or a YAML file path.
+
+    Raises:
+        UvmsInputError: missing file, YAML syntax error, invalid content, missing or invalid model file,
+            torque or joint vectors of the wrong length, unknown controller (one-line message).
+    """
+    path = resolve_scenario_path(name_or_path)
+    data = read_yaml(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:  # pragma: no cover - read_yaml read it a moment ago
+        raise UvmsInputError(f"cannot read: {exc}", str(path)) from None
+    return scenario_from_data(data, source=str(path), base_dir=path.parent, text=text, default_name=path.stem)
+
+
+def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | os.PathLike[str] | None = None,
+                       text: str | None = None, default_name: str = "scenario") -> Scenario:
+    """Validate scenario ``data`` (the parsed YAML mapping); relative model paths resolve against ``base_dir``
+    (default: the working directory). ``text`` (default: a YAML dump of ``data``) is hashed and kept."""
+    import yaml
+
+    if not isinstance(data, dict):
+        found = "an empty file" if data is None else show(data)
+        raise UvmsInputError(f"expected a mapping of scenario fields at the top level, found {found}", source)
+    try:
+        spec = ScenarioSpec.model_validate(data)
+    except ValidationError as exc:
+        raise validation_input_error(_WithoutTags(exc), source, schema=ScenarioSpec) from None  # type: ignore[arg-type]
+    if spec.name is None:
+        name = re.sub(r"[^A-Za-z0-9._+-]", "_", default_name).lstrip("._+-") or "scenario"
+        spec = spec.model_copy(update={"name": name})
+    if text is None:
+        text = yaml.safe_dump(data, sort_keys=False)
+    model = _resolve_model(spec, source, Path(base_dir) if base_dir is not None else Path.cwd())
+    _check_against_model(spec, model, source)
+    if spec.controller is not None:
+        _make_controller(spec.controller, model, source)  # unknown name or bad parameters: fail now
+    return Scenario(spec=spec, model=model, source=source, sha256=hashlib.sha256(text.encode()).hexdigest(), text=text)
+
+
+def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None] | None = None) -> Result:
+    """Simulate a scenario. A diverging run returns a :class:`Result` with ``complete = False`` and the reason
+    in ``message`` (nothing is raised); ``progress(t, duration)`` is called after each integration segment."""
+    from uvms.sim.run import Actuation, simulate
+
+    spec = scenario.spec
+    inputs = spec.inputs
+    metadata = {"scenario": scenario.name, "scenario_source": scenario.source, "scenario_sha256": scenario.sha256,
+                "model_source": scenario.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
+                "controller": spec.controller.name if spec.controller else None}
+    return simulate(
+        scenario.model, scenario.initial_state(), duration=spec.duration, step=spec.step,
+        integrator=spec.integrator, fixed_base=scenario.fixed_base, joint_torques=inputs.torque_schedule(),
+        body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=scenario.current(),
+        controller=scenario.make_controller(), actuation=Actuation.named(spec.actuators),
+        control_period=spec.controller.period if spec.controller else None,
+        record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
+        progress=progress, metadata=metadata)
+
+
+# ---------------------------------------------------------------------------------------------- helpers
+
+
+class _WithoutTags:
+    """A ``ValidationError`` look-alike whose error locations leave out this schema's union tags; unknown keys
+    come first (a typo'd key also makes its intended field "missing": the typo is the one to report)."""
+
+    def __init__(self, exc: ValidationError) -> None:
+        errors = [{**e, "loc": tuple(p for p in e["loc"] if p not in _UNION_TAGS)} for e in exc.errors()]
+        self._errors = sorted(errors, key=lambda e: e["type"] != "extra_forbidden")
+
+    def errors(self) -> list[dict[str, Any]]:
+        return self._errors
+
+
+def _resolve_model(spec: ScenarioSpec, source: str | None, base_dir: Path) -> Model:
+    """Load ``spec.model`` (a path relative to ``base_dir``, or a bundled name) and apply the overrides."""
+    candidate = Path(spec.model).expanduser()
+    if not candidate.is_absolute():
+        candidate = base_dir / candidate
+    if candidate.exists():
+        target: str | Path = candidate
+    elif spec.model in bundled_models():
+        target = spec.model
+    else:
+        raise UvmsInputError(f"no such model file {candidate} (nor a bundled model: {', '.join(bundled_models())})",
+                             source, "model")
+    try:
+        model = load_model(target)
+    except UvmsInputError as exc:
+        raise UvmsInputError(str(exc), source, "model") from None
+    return apply_overrides(model, spec.model_overrides)
+
+
+def apply_overrides(model: Model, overrides: ModelOverrides) -> Model:
+    """The model with hydrodynamic scale factors and environment replacements applied.
+
+    A new fluid density also scales every added-mass matrix and displaced-fluid mass by ``rho_new / rho``
+    (same geometry, another fluid); drag uses the density directly.
+    """
+    if overrides.added_mass_scale != 1.0 or overrides.drag_scale != 1.0:
+        model = model.with_hydrodynamics_scaled(added_mass=overrides.added_mass_scale, drag=overrides.drag_scale)
+    env = overrides.environment
+    changes: dict[str, Any] = {}
+    if env.current is not None:
+        changes["current"] = np.array(env.current)
+    if env.gravity is not None:
+        changes["gravity"] = np.array(env.gravity)
+    if env.density is not None:
+        ratio = env.density / model.density
+        changes.update(density=env.density, added_mass=model.added_mass * ratio,
+                       buoyancy_mass=model.buoyancy_mass * ratio)
+    return model.replace(**changes) if changes else model
+
+
+def _check_against_model(spec: ScenarioSpec, model: Model, source: str | None) -> None:
+    """Vector lengths that depend on the model's joint count ``n``."""
+    n = model.n_joints
+    vectors = spec.inputs.torque_vectors()
+    vectors += [(f"initial_state.{k}", getattr(spec.initial_state, k)) for k in ("q", "qd")]
+    for path, values in vectors:
+        if values is not None and len(values) != n:
+            raise UvmsInputError(f"expected {n} values (one per joint of model {model.name!r}), found "
+                                 f"{len(values)}: {show(list(values))}", source, path)
+
+
+def _registry():
+    """:mod:`uvms.control.registry`, or ``None`` while it does not exist."""
+    import importlib
+
+    try:
+        return importlib.import_module("uvms.control.registry")
+    except ModuleNotFoundError as exc:
+        if exc.name != "uvms.control.registry":
+            raise
+        return None
+
+
+def _make_controller(spec: ControllerSpec, model: Model, source: str | None):
+    registry = _registry()
+    names = tuple(registry.controller_names()) if registry is not None else ()
+    if spec.name not in names:
+        known = ", ".join(names) if names else "none available (uvms.control.registry is missing)"
+        raise UvmsInputError(f"unknown controller {spec.name!r}; known: {known}", source, "controller.name")
+    try:
+        return registry.make_controller(spec.name, model, period=spec.period, parameters=dict(spec.parameters))
+    except UvmsInputError as exc:
+        path = exc.path or "parameters"
+        path = path if path.startswith("controller") else f"controller.{path}"
+        raise UvmsInputError(exc.message, source, path) from None
+    except (ValueError, TypeError, KeyError) as exc:
+        message = " ".join(str(exc).split()) or type(exc).__name__
+        raise UvmsInputError(f"invalid controller parameters: {message}", source, "controller.parameters") from None
