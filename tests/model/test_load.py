@@ -69,7 +69,13 @@ def test_paper_hydrodynamics_and_environment(model):
     np.testing.assert_array_equal(model.link_radius, [0.0125] * 3)
     np.testing.assert_array_equal(model.link_length, [0.22] * 3)
     np.testing.assert_array_equal(model.link_drag_coefficient, [1.1] * 3)
-    assert model.density == 1000.0 and model.thrusters == ()
+    assert model.density == 1000.0
+    # the paper's layout plus a sway thruster, all Healey, equal to the bundled "paper-sway" layout
+    from uvms.thrusters.layouts import layout, layout_matrix
+
+    assert [t.name for t in model.thrusters] == ["surge_port", "surge_starboard", "heave", "sway"]
+    assert all(t.model == "healey" for t in model.thrusters)
+    np.testing.assert_allclose(layout_matrix(model.thrusters), layout_matrix(layout("paper-sway")))
     np.testing.assert_array_equal(model.gravity, [0, 0, 9.81])
     np.testing.assert_array_equal(model.current, [0, 0, 0])
     np.testing.assert_array_equal(model.fluid_acceleration, [0, 0, 0])

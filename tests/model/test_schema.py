@@ -38,7 +38,7 @@ def test_paper_validates_and_is_frozen():
     spec = ModelSpec.model_validate(paper())
     assert spec.name == "paper" and len(spec.arm.links) == 3
     assert spec.arm.links[1].dh.alpha_prev == pytest.approx(-np.pi / 2, abs=1e-16)
-    assert spec.environment.density == 1000.0 and spec.thrusters == ()
+    assert spec.environment.density == 1000.0 and len(spec.thrusters) == 4
     with pytest.raises(ValidationError):
         spec.name = "other"
 
@@ -135,3 +135,22 @@ def test_thruster_spec():
         ThrusterSpec(name="t", position=(0.0, 0.0, 0.0), direction=(0.0, 0.0, 0.0), model="ideal")
     with pytest.raises(ValidationError, match="unique thruster names"):
         ModelSpec.model_validate({**paper(), "thrusters": [t.model_dump(), t.model_dump()]})
+
+
+def test_thruster_parameters_are_checked(tmp_path):
+    """An unknown Healey parameter is one line naming thrusters[i].parameters.<key>."""
+    import yaml
+
+    from uvms.errors import UvmsInputError
+    from uvms.model.load import load_model, resolve_model_path
+
+    data = yaml.safe_load(resolve_model_path("paper").read_text())
+    data["thrusters"][1]["parameters"] = {"pitchh": 0.4}
+    path = tmp_path / "bad_thruster.yaml"
+    path.write_text(yaml.safe_dump(data))
+    with pytest.raises(UvmsInputError) as info:
+        load_model(path)
+    assert "thrusters[1].parameters.pitchh" in str(info.value) and "\n" not in str(info.value)
+    data["thrusters"][1]["parameters"] = {"pitch": 0.5}
+    path.write_text(yaml.safe_dump(data))
+    assert load_model(path).thrusters[1].parameters.pitch == 0.5

@@ -138,7 +138,7 @@ BAD = {  # change to case 2 -> (field path, part of the message)
                        "expected 'from' times in increasing order"),
     "integrator": (lambda d: d.update(integrator="euler"), "integrator", "expected 'rk4', 'DOP853'"),
     "vehicle": (lambda d: d.update(vehicle="free"), "vehicle", "expected 'released' or 'fixed'"),
-    "actuators": (lambda d: d.update(actuators="jets"), "actuators", "expected one of 'ideal', 'paper'"),
+    "actuators": (lambda d: d.update(actuators="jets"), "actuators", "expected 'model' or one of 'ideal', 'paper'"),
     "missing_model": (lambda d: d.update(model="models/nowhere.yaml"), "model",
                       "no such model file /base/models/nowhere.yaml"),
     "current_both": (lambda d: d["inputs"].update(current={"constant": [0, 0, 0],

@@ -9,6 +9,7 @@ from uvms.model.model import Model
 from uvms.model.schema import ArmSpec, LinkSpec, ModelSpec, VehicleSpec, inertia_com
 from uvms.rotations import rotation_from_euler
 from uvms.spatial import modified_dh_pose, shift_spatial_inertia
+from uvms.thrusters.layouts import thruster_from_spec
 
 
 def _added_mass(body: VehicleSpec | LinkSpec, density: float) -> np.ndarray:
@@ -71,5 +72,5 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         gravity=np.array(env.gravity),
         current=np.array(env.current),
         fluid_acceleration=np.array(env.fluid_acceleration),
-        thrusters=tuple(spec.thrusters),
+        thrusters=tuple(thruster_from_spec(t, i) for i, t in enumerate(spec.thrusters)),
     )

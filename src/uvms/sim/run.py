@@ -34,9 +34,14 @@ class Actuation:
     thrusters: tuple = ()
 
     @classmethod
-    def named(cls, name: str | None) -> "Actuation":
+    def named(cls, name: str | None, model=None) -> "Actuation":
+        """``"ideal"`` (or ``None``), a bundled layout name, or ``"model"``: the model file's thrusters."""
         from uvms.thrusters.layouts import layout
 
+        if name == "model":
+            if model is None:
+                raise ValueError("actuators 'model' needs the model")
+            return cls(tuple(model.thrusters))
         return cls(() if name in (None, "ideal") else layout(name))
 
 

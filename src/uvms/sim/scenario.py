@@ -314,8 +314,8 @@ class ScenarioSpec(Spec):
     def _known_layout(cls, name: str) -> str:
         from uvms.thrusters.layouts import layout_names
 
-        if name not in layout_names():
-            raise fail(f"expected one of {', '.join(repr(n) for n in layout_names())}, found {show(name)}")
+        if name not in (*layout_names(), "model"):
+            raise fail(f"expected 'model' or one of {', '.join(repr(n) for n in layout_names())}, found {show(name)}")
         return name
 
     @model_validator(mode="after")
@@ -456,7 +456,7 @@ def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None]
         scenario.model, scenario.initial_state(), duration=spec.duration, step=spec.step,
         integrator=spec.integrator, fixed_base=scenario.fixed_base, joint_torques=inputs.torque_schedule(),
         body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=scenario.current(),
-        controller=scenario.make_controller(), actuation=Actuation.named(spec.actuators),
+        controller=scenario.make_controller(), actuation=Actuation.named(spec.actuators, scenario.model),
         control_period=spec.controller.period if spec.controller else None,
         record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
         progress=progress, metadata=metadata)

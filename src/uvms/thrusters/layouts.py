@@ -17,7 +17,7 @@ All thrusters default to the Healey model (:mod:`uvms.thrusters.healey`) with th
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Literal
 
 import numpy as np
@@ -98,6 +98,31 @@ _LAYOUTS: dict[str, tuple[Thruster, ...]] = {
     "ideal": (),
 }
 _LAYOUTS["paper-sway"] = _LAYOUTS["paper"] + (Thruster("sway", (0.0, 0.0, 0.0), (0.0, 1.0, 0.0)),)
+
+
+def thruster_from_spec(spec, index: int = 0) -> Thruster:
+    """A :class:`Thruster` from a model file's thruster entry (``uvms.model.schema.ThrusterSpec``).
+
+    ``parameters`` keys are the fields of the model's parameter class (``HealeyParameters`` etc.); for ideal
+    and first-order thrusters ``max_thrust`` may also be given at the entry's top level.
+    """
+    cls = _PARAMETER_TYPES[spec.model]
+    values = dict(spec.parameters or {})
+    if spec.max_thrust is not None:
+        if "max_thrust" not in {f.name for f in fields(cls)}:
+            raise UvmsInputError("max_thrust follows from the Healey parameters (supply voltage); remove it",
+                                 path=f"thrusters[{index}].max_thrust")
+        values.setdefault("max_thrust", spec.max_thrust)
+    known = {f.name for f in fields(cls)}
+    for key in values:
+        if key not in known:
+            raise UvmsInputError(f"unknown {spec.model} parameter; expected one of: {', '.join(sorted(known))}",
+                                 path=f"thrusters[{index}].parameters.{key}")
+    try:
+        parameters = cls(**values)
+    except (TypeError, ValueError) as exc:
+        raise UvmsInputError(str(exc), path=f"thrusters[{index}].parameters") from None
+    return Thruster(spec.name, tuple(spec.position), tuple(spec.direction), spec.model, parameters)
 
 
 def layout_names() -> tuple[str, ...]:
