@@ -1,8 +1,8 @@
 """Where numba keeps the compiled kernels: a folder keyed by a fingerprint of uvms's own sources.
 
 numba's ``cache=True`` checks only the timestamp of the file that defines a function, yet the compiled code
-also contains every kernel it calls from other modules. Keying the cache folder on all of uvms's sources
-(paths, sizes, modification times) means an edited helper never leaves a stale caller in the cache. A user's
+also contains every kernel it calls from other modules. Keying the cache folder on the contents of every uvms
+module that uses numba means an edited helper never leaves a stale caller in the cache. A user's
 own ``NUMBA_CACHE_DIR`` is respected.
 """
 
@@ -15,10 +15,13 @@ from pathlib import Path
 
 
 def _fingerprint(package_dir: Path) -> str:
+    """Hash of the modules that hold compiled kernels (those importing numba): editing a controller or the
+    CLI does not invalidate the compiled dynamics."""
     h = hashlib.sha256()
     for path in sorted(package_dir.rglob("*.py")):
-        st = path.stat()
-        h.update(f"{path.relative_to(package_dir)}:{st.st_size}:{st.st_mtime_ns}\n".encode())
+        text = path.read_bytes()
+        if b"numba" in text:
+            h.update(str(path.relative_to(package_dir)).encode() + b"\0" + text)
     return h.hexdigest()[:16]
 
 
