@@ -15,6 +15,20 @@ from uvms.dynamics.passes import joint_transform
 
 
 @njit(cache=True)
+def quaternion_to_rotation(qw, qx, qy, qz, R):
+    """Body-to-world rotation of a unit quaternion ``[w, x, y, z]`` (into ``R``)."""
+    R[0, 0] = 1 - 2 * (qy * qy + qz * qz)
+    R[0, 1] = 2 * (qx * qy - qw * qz)
+    R[0, 2] = 2 * (qx * qz + qw * qy)
+    R[1, 0] = 2 * (qx * qy + qw * qz)
+    R[1, 1] = 1 - 2 * (qx * qx + qz * qz)
+    R[1, 2] = 2 * (qy * qz - qw * qx)
+    R[2, 0] = 2 * (qx * qz - qw * qy)
+    R[2, 1] = 2 * (qy * qz + qw * qx)
+    R[2, 2] = 1 - 2 * (qx * qx + qy * qy)
+
+
+@njit(cache=True)
 def link_poses(km, R0, p0, q, R_out, p_out, E, X):
     """World pose of every body (``R_out[i]`` body-to-world, ``p_out[i]`` origin) and, at index ``nb``,
     of the end effector. ``R_out``/``p_out`` have ``nb + 1`` rows; ``E`` (3x3) and ``X`` (6x6) are scratch."""
@@ -75,3 +89,22 @@ def forward_kinematics(model, state) -> Poses:
 def end_effector_position(model, state) -> np.ndarray:
     """End-effector position in the world frame (3,) [m]."""
     return forward_kinematics(model, state).end_effector_position
+
+
+@njit(cache=True)
+def end_effector_path(km, states, out):
+    """World end-effector position (``out[k]``, (K, 3)) of every recorded state vector ``states[k]``
+    (:mod:`uvms.sim.integrate` layout), in one compiled loop."""
+    nb = km.parent.shape[0]
+    n = nb - 1
+    R = np.empty((nb + 1, 3, 3))
+    p = np.empty((nb + 1, 3))
+    E = np.empty((3, 3))
+    X = np.empty((6, 6))
+    R0 = np.empty((3, 3))
+    for k in range(states.shape[0]):
+        x = states[k]
+        quaternion_to_rotation(x[3], x[4], x[5], x[6], R0)
+        link_poses(km, R0, x[0:3], x[13:13 + n], R, p, E, X)
+        for a in range(3):
+            out[k, a] = p[nb, a]

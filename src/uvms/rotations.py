@@ -8,6 +8,8 @@ quaternion: Eq. 1's Euler-rate map ``T2`` is singular at ``theta = +/-90 deg``.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from uvms.spatial import rotx, roty, rotz
@@ -48,7 +50,9 @@ def quaternion_from_rotation(R: np.ndarray) -> np.ndarray:
 
 def rotation_from_quaternion(q: np.ndarray) -> np.ndarray:
     """Body-to-world rotation matrix of a quaternion ``[w, x, y, z]`` (normalised first)."""
-    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    w, x, y, z = (float(c) for c in q)
+    s = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w * s, x * s, y * s, z * s
     return np.array([
         [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],

@@ -67,7 +67,7 @@ from uvms.control.registry import (
     vector,
 )
 from uvms.errors import UvmsInputError
-from uvms.rotations import wrap_angle
+from uvms.rotations import euler_from_rotation, wrap_angle
 
 AXES: tuple[str, ...] = ("surge", "sway", "yaw")
 """The controlled axes, in this order everywhere (errors, gains, logged signals)."""
@@ -150,7 +150,7 @@ class AxisKinematics:
         if surface == "body_velocity":
             return np.array([nu_dot[3], nu_dot[4], nu_dot[2]])
         omega_dot = nu_dot[:3]
-        e_ddot = nu_dot[3:] - np.cross(omega_dot, self.error3) - np.cross(self.omega, self.rate3)
+        e_ddot = nu_dot[3:] - _cross(omega_dot, self.error3) - _cross(self.omega, self.rate3)
         phi, theta, _ = self.euler
         p, q, r = self.omega
         sp, cp, ct, tt = math.sin(phi), math.cos(phi), math.cos(theta), math.tan(theta)
@@ -170,14 +170,19 @@ class AxisKinematics:
         return np.array([1.0, 1.0, math.cos(phi) / math.cos(theta)])
 
 
+def _cross(a, b) -> np.ndarray:
+    """3-vector cross product without numpy's general-axis machinery (this runs every control update)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
 def axis_kinematics(state, position_desired: np.ndarray, yaw_desired: float) -> AxisKinematics:
     """Errors, rates and velocities of the surge, sway and yaw axes for a constant desired pose."""
     R = state.rotation
-    nu = np.asarray(state.nu, dtype=float)
+    nu = state.nu
     omega = nu[:3]
-    e3 = R.T @ (np.asarray(state.position) - position_desired)
-    e3_dot = nu[3:] - np.cross(omega, e3)
-    euler = state.euler
+    e3 = R.T @ (state.position - position_desired)
+    e3_dot = nu[3:] - _cross(omega, e3)
+    euler = euler_from_rotation(R)
     phi, theta, psi = euler
     psi_dot = (math.sin(phi) * omega[1] + math.cos(phi) * omega[2]) / math.cos(theta)
     return AxisKinematics(
@@ -222,17 +227,6 @@ class SlidingModeParameters:
 
 
 # ------------------------------------------------------------------------------------------ the models
-
-
-def vehicle_only(model):
-    """The vehicle body alone (its mass, inertia, added mass, drag, buoyancy; no arm) as a 0-joint model."""
-    return model.replace(
-        name=f"{model.name}-vehicle", body_names=model.body_names[:1], mass=model.mass[:1], com=model.com[:1],
-        inertia_com=model.inertia_com[:1], added_mass=model.added_mass[:1], buoyancy_mass=model.buoyancy_mass[:1],
-        cob=model.cob[:1], link_radius=model.link_radius[:0], link_length=model.link_length[:0],
-        link_drag_coefficient=model.link_drag_coefficient[:0], joint_rotation=model.joint_rotation[:0],
-        joint_position=model.joint_position[:0], theta_offset=model.theta_offset[:0], ee_rotation=np.eye(3),
-        ee_position=np.zeros(3), thrusters=())
 
 
 def effective_inertia(inertia: np.ndarray) -> np.ndarray:

@@ -1,7 +1,7 @@
 """``smc-vehicle``: the sliding-mode law with a model of the vehicle alone; the arm is a disturbance.
 
 The controller's model is the vehicle body of the plant (its mass, inertia, added mass, drag and buoyancy,
-hydrodynamics scaled by ``hydro_scale``) with no arm (:func:`uvms.control.smc.vehicle_only`). ``f_hat`` is
+hydrodynamics scaled by ``hydro_scale``) with no arm (:meth:`uvms.model.Model.vehicle_only`). ``f_hat`` is
 that body's ``nu_dot`` at ``f_0 = 0``; every reaction of the arm is left to the robust term
 ``k sat(s / Phi)``, whose bound ``F`` does not know about it. This is the baseline the paper improves on.
 """
@@ -12,7 +12,7 @@ import numpy as np
 
 from uvms.control.base import Measurement
 from uvms.control.registry import register
-from uvms.control.smc import SlidingModeController, SlidingModeParameters, vehicle_only
+from uvms.control.smc import SlidingModeController, SlidingModeParameters
 from uvms.dynamics.aba import aba
 from uvms.dynamics.kernel_model import make_workspace
 
@@ -21,7 +21,7 @@ class VehicleModel:
     """The vehicle-only model's forward dynamics with a preallocated workspace (compiled ABA, 0 joints)."""
 
     def __init__(self, plant, hydro_scale: float) -> None:
-        self.model = vehicle_only(plant.with_hydrodynamics_scaled(added_mass=hydro_scale, drag=hydro_scale))
+        self.model = plant.with_hydrodynamics_scaled(added_mass=hydro_scale, drag=hydro_scale).vehicle_only()
         self._ws = make_workspace(1)
         self._empty = np.zeros(0)
         self._zero6 = np.zeros(6)

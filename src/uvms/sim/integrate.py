@@ -19,6 +19,7 @@ import numpy as np
 from numba import njit
 
 from uvms.dynamics.aba import aba
+from uvms.kinematics import quaternion_to_rotation
 from uvms.sim.actuation import actuator_rates
 
 P, QUAT, NU, JOINTS = 0, 3, 7, 13
@@ -44,20 +45,6 @@ def unpack(x: np.ndarray, n_joints: int):
 
     n = n_joints
     return State.trusted(x[0:3], x[3:7], x[7:13], x[13:13 + n], x[13 + n:13 + 2 * n], x[13 + 2 * n:])
-
-
-@njit(cache=True)
-def quaternion_to_rotation(qw, qx, qy, qz, R):
-    """Body-to-world rotation of a unit quaternion ``[w, x, y, z]`` (into ``R``)."""
-    R[0, 0] = 1 - 2 * (qy * qy + qz * qz)
-    R[0, 1] = 2 * (qx * qy - qw * qz)
-    R[0, 2] = 2 * (qx * qz + qw * qy)
-    R[1, 0] = 2 * (qx * qy + qw * qz)
-    R[1, 1] = 1 - 2 * (qx * qx + qz * qz)
-    R[1, 2] = 2 * (qy * qz - qw * qx)
-    R[2, 0] = 2 * (qx * qz - qw * qy)
-    R[2, 1] = 2 * (qy * qz + qw * qx)
-    R[2, 2] = 1 - 2 * (qx * qx + qy * qy)
 
 
 @njit(cache=True)

@@ -16,10 +16,10 @@ import numpy as np
 
 from uvms.control.base import ControlOutput, Measurement
 from uvms.dynamics.kernel_model import make_workspace
-from uvms.kinematics import link_poses
+from uvms.kinematics import end_effector_path
 from uvms.sim.actuation import actuator_kernel, n_actuator_states
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
-from uvms.sim.integrate import check_state, pack, quaternion_to_rotation, rk4, state_derivative, unpack
+from uvms.sim.integrate import check_state, pack, rk4, state_derivative, unpack
 from uvms.sim.result import Result
 from uvms.state import State
 
@@ -241,15 +241,7 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         for k, v in s.items():
             sig[k][a:b] = v
     ee = np.zeros((n_out, 3))
-    Rs = np.zeros((model.n_bodies + 1, 3, 3))
-    ps = np.zeros((model.n_bodies + 1, 3))
-    E = np.zeros((3, 3))
-    X = np.zeros((6, 6))
-    for k in range(n_out):
-        xk = out_x[k]
-        quaternion_to_rotation(xk[3], xk[4], xk[5], xk[6], R)
-        link_poses(km, R, xk[0:3].copy(), xk[13:13 + n].copy(), Rs, ps, E, X)
-        ee[k] = ps[-1]
+    end_effector_path(km, np.ascontiguousarray(out_x), ee)
     meta = {"integrator": integrator, "step_s": h, "duration_s": duration, "fixed_base": bool(fixed_base),
             "wall_time_s": _time.perf_counter() - wall0, "model": model.name, **_versions(), **(metadata or {})}
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau[:n_out],
