@@ -57,4 +57,10 @@ def test_the_paper_claims_hold(reproduced):
     assert np.degrees(r["peak_abs_yaw_rad"]) > 10.0                     # and tens of degrees
     assert f["peak_abs_x_m"] == 0.0 and f["peak_ee_deviation_m"] == 0.0
     assert sum(m["chatter"]["small"].values()) > 10 * max(sum(m["chatter"]["paper"].values()), 1)
-    assert all(claim["verdict"] == "holds" for claim in m["claims"])
+    verdicts = {claim["claim"].split(":")[0]: claim["verdict"] for claim in m["claims"]}
+    premise = "Premise of Eqs. 27-29"
+    # a finding, not a paper claim that holds: the paper's surge/sway b bounds [36, 44.44] kg do not contain the
+    # plant's effective mass (vehicle 32 kg + added mass + arm, ~47-53 kg); the controller works regardless
+    assert verdicts.pop(premise) == "does not hold"
+    assert 45.0 < m["plant_b"]["surge"][0] and m["plant_b"]["yaw"][0] > 1.287
+    assert all(v == "holds" for v in verdicts.values())

@@ -70,7 +70,7 @@ def _error_figure(result, series, title: str, path, *, scale: float, unit: str, 
     e = series["error"]
     labels = (f"x error [{unit}]", f"y error [{unit}]", "yaw error [deg]")
     for j, ax in enumerate(axes):
-        y = np.degrees(e[:, j]) if j == 2 else e[:, j] * scale
+        y = np.degrees(np.unwrap(e[:, j])) if j == 2 else e[:, j] * scale      # yaw unwrapped past 180 deg
         ax.plot(t, y, color="tab:blue" if epsilon else "tab:red", label="body-frame error")
         if epsilon is not None and j < 2:
             if np.abs(y).max() > 0.2 * epsilon * scale:
