@@ -87,3 +87,16 @@ def test_quaternion_rate_matches_rotation_rate(rng):
     h = 1e-6
     dR = (rotation_from_quaternion(q + h * quaternion_rate(q, w)) - rotation_from_quaternion(q - h * quaternion_rate(q, w))) / (2 * h)
     np.testing.assert_allclose(dR, rotation_from_quaternion(q) @ spatial.skew(w), atol=1e-8)
+
+
+def test_structured_congruence_equals_dense(rng):
+    """The articulated-inertia hand-over X^T I X by the transform's structure equals the dense product."""
+    for _ in range(50):
+        E = rotation_from_euler(rng.uniform(-3, 3, 3))
+        r = rng.normal(size=3)
+        A = rng.normal(size=(6, 6))
+        I = A @ A.T
+        out = rng.normal(size=(6, 6))
+        expected = out + spatial.plucker(E, r).T @ I @ spatial.plucker(E, r)
+        blocks.congruence_add_plucker(E, r, I, out, np.zeros((6, 6)))
+        np.testing.assert_allclose(out, expected, atol=1e-12)

@@ -23,9 +23,9 @@ def rotation_from_euler(euler: np.ndarray) -> np.ndarray:
 
 def euler_from_rotation(R: np.ndarray) -> np.ndarray:
     """ZYX Euler angles ``(phi, theta, psi)`` of ``R``; ``theta`` in [-pi/2, pi/2], others in (-pi, pi]."""
-    theta = -np.arcsin(np.clip(R[2, 0], -1.0, 1.0))
-    phi = np.arctan2(R[2, 1], R[2, 2])
-    psi = np.arctan2(R[1, 0], R[0, 0])
+    theta = -math.asin(min(max(float(R[2, 0]), -1.0), 1.0))
+    phi = math.atan2(float(R[2, 1]), float(R[2, 2]))
+    psi = math.atan2(float(R[1, 0]), float(R[0, 0]))
     return np.array([phi, theta, psi])
 
 
@@ -91,4 +91,6 @@ def euler_rate_matrix(euler: np.ndarray) -> np.ndarray:
 
 def wrap_angle(angle):
     """Wrap an angle (or array) to (-pi, pi]."""
+    if isinstance(angle, float):
+        return -((-angle + math.pi) % (2 * math.pi) - math.pi)
     return -((-np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi)

@@ -74,8 +74,8 @@ class State:
         obj = object.__new__(cls)
         for name, value in (("position", position), ("quaternion", quaternion), ("nu", nu), ("q", q), ("qd", qd),
                             ("actuator", actuator)):
-            a = np.array(value, dtype=float)
-            a.setflags(write=False)
+            a = value.copy()
+            a.flags.writeable = False
             object.__setattr__(obj, name, a)
         return obj
 

@@ -312,3 +312,29 @@ def test_adaptive_integrator_and_tolerances_reach_the_simulation():
                                                    tolerances={"rtol": 1e-9, "atol": 1e-12})))
     assert dop.complete and dop.metadata["integrator"] == "DOP853"
     np.testing.assert_allclose(dop.q[-1], rk4.q[-1], rtol=1e-8, atol=1e-12)
+
+
+TRAJECTORY = {"times": [0.0, 1.0, 2.0], "angles": [[0.0, 0.0, 0.0], [0.8, 0.4, -0.4], [1.2, 0.0, 0.2]]}
+
+
+@pytest.mark.parametrize("tracker", ["computed_torque", "pd"])
+def test_joint_trajectory_is_tracked(tracker):
+    """A pilot's master-arm motion replayed: the arm ends at the last knot (clamped vehicle)."""
+    gains = {} if tracker == "computed_torque" else {"kp": [2.0, 1.0, 0.3], "kd": [1.0, 0.3, 0.05], "period": 0.002}
+    data = {"model": "paper", "duration": 4.0, "vehicle": "fixed",
+            "inputs": {"joint_trajectory": {**TRAJECTORY, "tracker": tracker, **gains}}}
+    result = run_scenario(scenario_from_data(data))
+    assert result.complete
+    tol = 1e-3 if tracker == "computed_torque" else 0.05
+    np.testing.assert_allclose(result.q[-1], TRAJECTORY["angles"][-1], atol=tol)
+
+
+def test_joint_trajectory_checks():
+    bad = {"model": "paper", "duration": 1.0, "inputs": {"joint_trajectory": {"times": [0.0, 1.0],
+                                                                              "angles": [[0, 0, 0], [1, 1]]}}}
+    with pytest.raises(UvmsInputError, match=r"inputs\.joint_trajectory\.angles\[1\]"):
+        scenario_from_data(bad)
+    both = {"model": "paper", "duration": 1.0, "inputs": {"joint_torques": {"constant": [0, 0, 0]},
+                                                          "joint_trajectory": TRAJECTORY}}
+    with pytest.raises(UvmsInputError, match="not both"):
+        scenario_from_data(both)

@@ -8,5 +8,8 @@ Add a subcommand by adding its module name to :data:`COMMANDS`.
 COMMANDS: tuple[str, ...] = (
     "validate",
     "thruster_curve",
+    "reproduce",
     "run", "plot",
+    "compare",
+    "sweep",
 )

@@ -10,14 +10,13 @@ scalar signals to log (``s_surge``, ``Phi``, ...).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Callable, Protocol
 
 import numpy as np
 
 from uvms.state import State
 
 
-@dataclass(frozen=True)
 class Measurement:
     """What the controller can use at an update.
 
@@ -26,13 +25,27 @@ class Measurement:
         state: vehicle pose and velocity, joint angles and rates (perfect measurement).
         joint_torques: (n,) torques applied at the joints over the coming interval [N m].
         nu_dot: (6,) the vehicle's true body acceleration ``[omega_dot; v_dot]`` at this instant (for IMU
-            models; an honest controller never uses it directly).
+            models; an honest controller never uses it directly). The simulator passes ``nu_dot_source``, a
+            function evaluated only if a controller asks (one dynamics evaluation saved per update otherwise).
     """
 
-    time: float
-    state: State
-    joint_torques: np.ndarray
-    nu_dot: np.ndarray
+    __slots__ = ("time", "state", "joint_torques", "_nu_dot", "_nu_dot_source")
+
+    def __init__(self, time: float, state: State, joint_torques: np.ndarray, nu_dot: np.ndarray | None = None,
+                 *, nu_dot_source: Callable[[], np.ndarray] | None = None) -> None:
+        if nu_dot is None and nu_dot_source is None:
+            raise ValueError("Measurement needs nu_dot or nu_dot_source")
+        self.time = time
+        self.state = state
+        self.joint_torques = joint_torques
+        self._nu_dot = None if nu_dot is None else np.asarray(nu_dot, dtype=float)
+        self._nu_dot_source = nu_dot_source
+
+    @property
+    def nu_dot(self) -> np.ndarray:
+        if self._nu_dot is None:
+            self._nu_dot = np.asarray(self._nu_dot_source(), dtype=float)
+        return self._nu_dot
 
 
 @dataclass(frozen=True)

@@ -71,6 +71,8 @@ from uvms.rotations import euler_from_rotation, wrap_angle
 
 AXES: tuple[str, ...] = ("surge", "sway", "yaw")
 """The controlled axes, in this order everywhere (errors, gains, logged signals)."""
+SIGNAL_NAMES = tuple(tuple(f"{kind}_{axis}" for kind in ("s", "k", "f_hat", "command", "e", "b_hat")) for axis in AXES)
+"""Logged signal names per axis (built once)."""
 
 WRENCH_INDEX: tuple[int, ...] = (3, 4, 2)
 """Where each axis' command goes in the body wrench ``[K, M, N, X, Y, Z]``: X (surge), Y (sway), N (yaw)."""
@@ -267,6 +269,16 @@ class SlidingModeController:
         wrench to ``nu_dot`` in that model (for ``b_source = "model"``)."""
         raise NotImplementedError
 
+    @property
+    def _fixed_b(self) -> tuple[np.ndarray, np.ndarray]:
+        """``b_hat = sqrt(b_min b_max)`` and ``beta = sqrt(b_max / b_min)`` per axis from the fixed bounds (Eq. 28-29)."""
+        cached = self.__dict__.get("_fixed_b_cache")
+        if cached is None:
+            limits = np.array(self.parameters.b_limits())
+            cached = (np.sqrt(limits[:, 0] * limits[:, 1]), np.sqrt(limits[:, 1] / limits[:, 0]))
+            self.__dict__["_fixed_b_cache"] = cached
+        return cached
+
     def _desired(self, state) -> tuple[np.ndarray, float]:
         if self._position_desired is None:
             par = self.parameters
@@ -287,22 +299,21 @@ class SlidingModeController:
             b_hat = effective_inertia(inertia)
             beta = np.full(3, par.b_margin)
         else:
-            limits = np.array(par.b_limits())
-            b_hat = np.sqrt(limits[:, 0] * limits[:, 1])
-            beta = np.sqrt(limits[:, 1] / limits[:, 0])
+            b_hat, beta = self._fixed_b
         wrench = np.zeros(6)
         signals: dict[str, float] = {"Phi": par.boundary_layer}
-        for j, axis in enumerate(AXES):
-            cmd = slotine_law(kin.error[j], rates[j], f_hat[j], bandwidth=par.bandwidth, eta=par.eta,
-                              boundary_layer=par.boundary_layer, uncertainty=par.uncertainty[j], b_hat=b_hat[j],
-                              beta=beta[j], error_rate=kin.error_rate[j])
+        for j, names in enumerate(SIGNAL_NAMES):
+            cmd = slotine_law(float(kin.error[j]), float(rates[j]), float(f_hat[j]), bandwidth=par.bandwidth,
+                              eta=par.eta, boundary_layer=par.boundary_layer, uncertainty=par.uncertainty[j],
+                              b_hat=float(b_hat[j]), beta=float(beta[j]), error_rate=float(kin.error_rate[j]))
             force = cmd.command / gain[j]
             wrench[WRENCH_INDEX[j]] = force
-            signals[f"s_{axis}"] = cmd.s
-            signals[f"k_{axis}"] = cmd.k
-            signals[f"f_hat_{axis}"] = f_hat[j]
-            signals[f"command_{axis}"] = force
-            signals[f"e_{axis}"] = kin.error[j]
+            s_name, k_name, f_name, c_name, e_name, b_name = names
+            signals[s_name] = cmd.s
+            signals[k_name] = cmd.k
+            signals[f_name] = float(f_hat[j])
+            signals[c_name] = float(force)
+            signals[e_name] = float(kin.error[j])
             if par.b_source == "model":
-                signals[f"b_hat_{axis}"] = b_hat[j]
+                signals[b_name] = float(b_hat[j])
         return ControlOutput(wrench=wrench, signals=signals)

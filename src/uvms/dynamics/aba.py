@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from uvms.dynamics.blocks import cholesky_solve6, congruence_add, mat6_vec, mat6T_vec_add
+from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, mat6_vec, mat6T_vec_add
 from uvms.dynamics.passes import apply_external, outward_pass
 
 
@@ -51,7 +51,7 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
         mat6_vec(Ia, ws.c[i], pa)
         for k in range(6):
             pa[k] += ws.pA[i, k] + U[k] * ws.u[i] / ws.d[i]
-        congruence_add(ws.Xup[i], Ia, ws.IA[p], tmp)
+        congruence_add_plucker(ws.E[i], km.tree_r[i], Ia, ws.IA[p], tmp)
         mat6T_vec_add(ws.Xup[i], pa, ws.pA[p])
 
     # -- pass 3: accelerations, base to tip (Eqs. 16, 20, 22)

@@ -82,20 +82,64 @@ def plucker(E, r, X):
 
 
 @njit(cache=True, inline="always")
-def congruence_add(X, I, out, tmp):
-    """``out += X^T I X`` (6x6), the articulated-inertia hand-over to the parent (Featherstone Eq. 7.39)."""
-    for i in range(6):
-        for j in range(6):
-            s = 0.0
-            for k in range(6):
-                s += I[i, k] * X[k, j]
-            tmp[i, j] = s
-    for i in range(6):
-        for j in range(6):
-            s = 0.0
-            for k in range(6):
-                s += X[k, i] * tmp[k, j]
-            out[i, j] += s
+def congruence_add_plucker(E, r, I, out, tmp):
+    """``out += X^T I X`` for ``X = plucker(E, r)`` and a symmetric ``I``, by the transform's structure
+    (Featherstone 2008, Sec. 2.8: a rotation then a translation, never a dense 6x6 product).
+
+    With ``[[A, B], [B^T, C]] = diag(E, E)^T I diag(E, E)`` and ``D = B + r x C``::
+
+        X^T I X = [[A + (r x) B^T - D (r x), D], [D^T, C]]
+
+    ``tmp`` is a 6x6 scratch matrix (rows 0-2: A, rows 3-5: B; its right half: C and D).
+    """
+    # A = E^T I11 E, B = E^T I12 E, C = E^T I22 E (blocks of the rotated inertia)
+    for a in range(3):
+        for b in range(3):
+            sa = 0.0
+            sb = 0.0
+            sc = 0.0
+            for k in range(3):
+                ea = E[k, a]
+                ta = 0.0
+                tb = 0.0
+                tc = 0.0
+                for m in range(3):
+                    em = E[m, b]
+                    ta += I[k, m] * em
+                    tb += I[k, 3 + m] * em
+                    tc += I[3 + k, 3 + m] * em
+                sa += ea * ta
+                sb += ea * tb
+                sc += ea * tc
+            tmp[a, b] = sa
+            tmp[3 + a, b] = sb
+            tmp[a, 3 + b] = sc
+    # D = B + r x C, column by column: D[:, j] = B[:, j] + r x C[:, j]
+    for j in range(3):
+        c0, c1, c2 = tmp[0, 3 + j], tmp[1, 3 + j], tmp[2, 3 + j]
+        tmp[3, 3 + j] = tmp[3, j] + r[1] * c2 - r[2] * c1
+        tmp[4, 3 + j] = tmp[4, j] + r[2] * c0 - r[0] * c2
+        tmp[5, 3 + j] = tmp[5, j] + r[0] * c1 - r[1] * c0
+    # top-left: A + (r x) B^T - D (r x); column j of (r x) B^T is r x B[j, :], row i of -D (r x) is r x D[i, :]
+    for i in range(3):
+        for j in range(3):
+            out[i, j] += tmp[i, j]
+    for j in range(3):
+        bx, by, bz = tmp[3 + j, 0], tmp[3 + j, 1], tmp[3 + j, 2]          # B[j, :]
+        out[0, j] += r[1] * bz - r[2] * by
+        out[1, j] += r[2] * bx - r[0] * bz
+        out[2, j] += r[0] * by - r[1] * bx
+    for i in range(3):
+        dx, dy, dz = tmp[3 + i, 3], tmp[3 + i, 4], tmp[3 + i, 5]          # D[i, :]
+        out[i, 0] += r[1] * dz - r[2] * dy
+        out[i, 1] += r[2] * dx - r[0] * dz
+        out[i, 2] += r[0] * dy - r[1] * dx
+    for i in range(3):
+        for j in range(3):
+            d = tmp[3 + i, 3 + j]
+            out[i, 3 + j] += d
+            out[3 + j, i] += d
+            out[3 + i, 3 + j] += tmp[i, 3 + j]
 
 
 @njit(cache=True)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from uvms.dynamics.blocks import congruence_add, mat6T_vec_add
+from uvms.dynamics.blocks import congruence_add_plucker, mat6T_vec_add
 from uvms.dynamics.passes import joint_transform
 
 
@@ -30,7 +30,7 @@ def crba(km, ws, q, M):
     # -- composite inertias, tip to base
     tmp = ws.m6[2]
     for i in range(nb - 1, 0, -1):
-        congruence_add(ws.Xup[i], ws.IA[i], ws.IA[km.parent[i]], tmp)
+        congruence_add_plucker(ws.E[i], km.tree_r[i], ws.IA[i], ws.IA[km.parent[i]], tmp)
 
     # -- rows and columns of M
     for r in range(6):

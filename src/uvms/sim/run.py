@@ -57,33 +57,53 @@ def _quantity_name(index: int, n: int) -> str:
     return f"actuator state {index - 13 - 2 * n}"
 
 
+_COMMAND_NAMES = tuple(f"command_{a}" for a in ("K", "M", "N", "X", "Y", "Z"))
+"""Logged commanded body wrench ``[K, M, N, X, Y, Z]`` (moments about and forces along the body axes)."""
+
+
 class _Commands:
-    """Turns a controller's wrench into held actuator commands (allocation, thrust -> voltage)."""
+    """Turns a controller's wrench into held actuator commands (allocation, thrust -> voltage).
+
+    Fast path every update: the layout's pseudo-inverse (minimum-norm least squares); only when that violates a
+    thrust limit does the saturation-aware :func:`~uvms.thrusters.allocation.allocate` run. Healey thrusters get
+    the compiled steady-state inverse (thrust -> inflow -> speed -> voltage, clipped to the supply).
+    """
+
+    LABELS = ("K", "M", "N", "X", "Y", "Z")
 
     def __init__(self, thrusters: tuple):
         self.thrusters = thrusters
         self.m = len(thrusters)
         if self.m:
+            from uvms.thrusters.healey import steady_coefficients
             from uvms.thrusters.layouts import layout_matrix, thrust_limits
 
             self.Lambda = layout_matrix(thrusters)
+            self.pinv = np.linalg.pinv(self.Lambda)
             self.lower, self.upper = thrust_limits(thrusters)
+            self.healey = [(t.parameters.as_array(), steady_coefficients(t.parameters)) if t.model == "healey"
+                           else None for t in thrusters]
 
     def __call__(self, wrench: np.ndarray) -> tuple[np.ndarray, dict[str, float]]:
         if self.m == 0:
             return np.array(wrench, dtype=float), {}
-        from uvms.thrusters.allocation import allocate
-        from uvms.thrusters.healey import voltage_for_thrust
+        from uvms.thrusters.healey import healey_voltage_for_thrust
 
-        alloc = allocate(self.Lambda, wrench, self.lower, self.upper)
+        thrust = self.pinv @ wrench
+        if np.any(thrust < self.lower) or np.any(thrust > self.upper):
+            from uvms.thrusters.allocation import allocate
+
+            thrust = allocate(self.Lambda, wrench, self.lower, self.upper).thrust
+        residual = wrench - self.Lambda @ thrust
         command = np.zeros(max(self.m, 6))
         signals: dict[str, float] = {}
         for j, t in enumerate(self.thrusters):
-            T = float(alloc.thrust[j])
-            command[j] = float(voltage_for_thrust(t.parameters, T)) if t.model == "healey" else T
+            T = float(thrust[j])
+            h = self.healey[j]
+            command[j] = healey_voltage_for_thrust(h[0], h[1], T) if h is not None else T
             signals[f"thrust_cmd_{t.name}"] = T
-        for k, a in enumerate(("K", "M", "N", "X", "Y", "Z")):
-            signals[f"unachieved_{a}"] = float(alloc.residual[k])
+        for k, a in enumerate(self.LABELS):
+            signals[f"unachieved_{a}"] = float(residual[k])
         return command, signals
 
 
@@ -153,9 +173,10 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         table = CurrentTable.from_function(current, duration, h)
     else:
         table = CurrentTable.constant(current, model.fluid_acceleration)
-    env_t = np.ascontiguousarray(table.times, dtype=float)
-    env_vc = np.ascontiguousarray(table.velocity, dtype=float)
-    env_af = np.ascontiguousarray(table.acceleration, dtype=float)
+    # fresh writeable copies: numba compiles read-only arrays (the model's are) as a different type
+    env_t = np.array(table.times, dtype=float, order="C")
+    env_vc = np.array(table.velocity, dtype=float, order="C").reshape(-1, 3)
+    env_af = np.array(table.acceleration, dtype=float, order="C").reshape(-1, 3)
 
     def torques_at(t: float, st: State) -> np.ndarray:
         if joint_torques is None:
@@ -199,13 +220,18 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         signals: dict[str, float] = {}
         command = zero_cmd
         if controller is not None:
-            state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, last_command, env_t, env_vc, env_af,
-                             bool(fixed_base), xdot, R, vecs, thrust)
+            def true_nu_dot(x=x.copy(), t=t, tau=tau, held=last_command):
+                state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, held, env_t, env_vc, env_af, bool(fixed_base),
+                                 xdot, R, vecs, thrust)
+                return xdot[7:13].copy()
+
             out: ControlOutput = controller.update(Measurement(time=t, state=st, joint_torques=tau,
-                                                               nu_dot=xdot[7:13].copy()))
-            command, alloc_signals = commands(np.asarray(out.wrench, dtype=float))
-            signals = {**out.signals, **{f"command_{a}": float(out.wrench[k])
-                                         for k, a in enumerate(("K", "M", "N", "X", "Y", "Z"))}, **alloc_signals}
+                                                               nu_dot_source=true_nu_dot))
+            wrench = np.asarray(out.wrench, dtype=float)
+            command, alloc_signals = commands(wrench)
+            signals = dict(out.signals)
+            signals.update(zip(_COMMAND_NAMES, wrench.tolist()))
+            signals.update(alloc_signals)
         last_command = command
         steps = event - done
         first_row = 0 if done == 0 else n_out

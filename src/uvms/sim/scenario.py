@@ -250,13 +250,52 @@ class CurrentSpec(Spec):
         return self
 
 
+class JointTrajectorySpec(Spec):
+    """A joint-space trajectory (e.g. a pilot's master-arm motion) tracked by an arm controller
+    (:mod:`uvms.control.arm`): clamped cubic spline through the knots."""
+
+    times: Vector                                 # knot times [s], increasing
+    angles: tuple[Vector, ...]                    # joint angles at each knot (n each) [rad]
+    tracker: Literal["computed_torque", "pd"] = "computed_torque"
+    kp: Positive | Vector | None = None           # one or per joint: [1/s^2] computed torque, [N m/rad] pd
+    kd: Positive | Vector | None = None           # one or per joint: [1/s] computed torque, [N m s/rad] pd
+    base: Literal["fixed", "moving"] = "fixed"    # computed torque: vehicle motion assumed by the model
+    period: Positive = 0.01                       # arm-controller update period [s]
+
+    @model_validator(mode="after")
+    def _knots(self) -> JointTrajectorySpec:
+        if len(self.angles) != len(self.times):
+            raise fail(f"expected one row of angles per knot time ({len(self.times)}), found {len(self.angles)}",
+                       "angles")
+        if any(b <= a for a, b in zip(self.times, self.times[1:])):
+            raise fail(f"expected increasing knot times, found {show(list(self.times))}", "times")
+        return self
+
+    def tracker_for(self, model):
+        """The arm controller, callable as ``(t, state) -> tau``."""
+        from uvms.control.arm import ComputedTorqueArm, JointTrajectory, PdArm
+
+        trajectory = JointTrajectory(np.array(self.times), np.array(self.angles))
+        gains = {k: v for k, v in (("kp", self.kp), ("kd", self.kd)) if v is not None}
+        if self.tracker == "pd":
+            return PdArm(trajectory, period=self.period, **gains)
+        return ComputedTorqueArm(model, trajectory, base=self.base, period=self.period, **gains)
+
+
 class InputsSpec(Spec):
     """External inputs, held between updates (zero-order hold)."""
 
     joint_torques: JointTorques | None = None     # [N m]; default: zero
+    joint_trajectory: JointTrajectorySpec | None = None   # instead of joint_torques: track a joint trajectory
     body_wrench: Vec6 = ZERO6                     # on the vehicle, body axes [moment; force] [N m, N]
     ee_wrench: Vec6 = ZERO6                       # on the end effector, its axes [moment; force] [N m, N]
     current: CurrentSpec | None = None            # default: the model's environment current
+
+    @model_validator(mode="after")
+    def _one_arm_input(self) -> InputsSpec:
+        if self.joint_torques is not None and self.joint_trajectory is not None:
+            raise fail("expected joint_torques or joint_trajectory, not both", "joint_trajectory")
+        return self
 
     def torque_schedule(self) -> TorqueSchedule | None:
         """The joint torques as a :class:`TorqueSchedule` (``None``: zero)."""
@@ -452,13 +491,18 @@ def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None]
     metadata = {"scenario": scenario.name, "scenario_source": scenario.source, "scenario_sha256": scenario.sha256,
                 "model_source": scenario.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
                 "controller": spec.controller.name if spec.controller else None}
+    joint_torques = inputs.torque_schedule()
+    control_period = spec.controller.period if spec.controller else None
+    if inputs.joint_trajectory is not None:
+        joint_torques = inputs.joint_trajectory.tracker_for(scenario.model)
+        period = inputs.joint_trajectory.period
+        control_period = min(control_period, period) if control_period else period
     return simulate(
         scenario.model, scenario.initial_state(), duration=spec.duration, step=spec.step,
-        integrator=spec.integrator, fixed_base=scenario.fixed_base, joint_torques=inputs.torque_schedule(),
+        integrator=spec.integrator, fixed_base=scenario.fixed_base, joint_torques=joint_torques,
         body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=scenario.current(),
         controller=scenario.make_controller(), actuation=Actuation.named(spec.actuators, scenario.model),
-        control_period=spec.controller.period if spec.controller else None,
-        record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
+        control_period=control_period, record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
         progress=progress, metadata=metadata)
 
 
@@ -522,6 +566,9 @@ def _check_against_model(spec: ScenarioSpec, model: Model, source: str | None) -
     n = model.n_joints
     vectors = spec.inputs.torque_vectors()
     vectors += [(f"initial_state.{k}", getattr(spec.initial_state, k)) for k in ("q", "qd")]
+    if spec.inputs.joint_trajectory is not None:
+        vectors += [(f"inputs.joint_trajectory.angles[{k}]", row)
+                    for k, row in enumerate(spec.inputs.joint_trajectory.angles)]
     for path, values in vectors:
         if values is not None and len(values) != n:
             raise UvmsInputError(f"expected {n} values (one per joint of model {model.name!r}), found "

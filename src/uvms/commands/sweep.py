@@ -1,0 +1,148 @@
+"""``uvms sweep SWEEP [-o DIR] [--workers N] [--scheduler ADDRESS]``: run a parameter sweep in parallel.
+
+Each finished run is appended to ``DIR/runs.csv`` as it completes; rerunning the same command resumes (runs
+already recorded are skipped). At the end ``DIR/summary.csv`` is written and the 5/50/95 % quantiles of each
+metric are printed per controller. Ctrl-C stops cleanly (exit 130): the rows written so far stay, the workers
+are shut down, and the same command resumes. ``docs/sweeps.md`` documents the sweep file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+NAME = "sweep"
+HELP = "run a parameter sweep (a sweep YAML file or bundled name) in parallel with Dask; resumable"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Register the arguments of ``uvms sweep``."""
+    parser.add_argument("sweep", metavar="SWEEP", help="sweep YAML file, or a bundled sweep name (paper_model_error)")
+    parser.add_argument("-o", "--output", metavar="DIR", default=None,
+                        help="output directory (default: sweeps/<sweep name>); an earlier run of the same sweep "
+                             "there is resumed")
+    parser.add_argument("--workers", metavar="N", type=int, default=None,
+                        help="local worker processes, one thread each (default: the number of CPUs)")
+    parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                        help="use the Dask scheduler at ADDRESS (e.g. tcp://10.0.0.5:8786) and its workers "
+                             "instead of local ones")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Validate, run (resuming), summarise; 0 when every run is recorded, 130 on Ctrl-C."""
+    from rich.console import Console
+
+    from uvms.errors import UvmsInputError
+    from uvms.sweep import load_sweep, summarize
+    from uvms.sweep import run as run_sweep
+
+    if args.scheduler is not None and args.workers is not None:
+        raise UvmsInputError("has no effect with --scheduler (the scheduler's workers run the sweep)",
+                             path="--workers")
+    workers = args.workers if args.workers is not None else _cpu_count()
+    sweep = load_sweep(args.sweep)
+    out = Path(args.output) if args.output else Path("sweeps") / sweep.name
+    if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
+        raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
+                             "--output")
+
+    bar = _Progress(sweep.name, "scheduler " + args.scheduler if args.scheduler else f"{workers} local workers")
+    start = time.perf_counter()
+    try:
+        rows = run_sweep(sweep, out_dir=out, workers=workers, scheduler=args.scheduler, progress=bar)
+    except KeyboardInterrupt:
+        bar.close()
+        print(f"uvms: interrupted: {bar.done} of {bar.total} runs recorded in {out / 'runs.csv'}; run the same "
+              "command again to resume", file=sys.stderr)
+        return 130
+    finally:
+        bar.close()
+    wall = time.perf_counter() - start
+
+    console = Console()
+    if not console.is_terminal:
+        console = Console(width=120)
+    summary = summarize(rows, metrics=sweep.metrics)
+    console.print(_quantile_table(summary, sweep.name))
+    failed = int((rows["status"] != "ok").sum())
+    new = bar.total - bar.skipped
+    console.print(f"{len(rows)} runs recorded in {out / 'runs.csv'} ({new} new in {wall:.1f} s, {bar.skipped} from "
+                  f"before, {failed} failed); summary in {out / 'summary.csv'}", highlight=False, soft_wrap=True)
+    if failed:
+        example = rows.loc[rows["status"] != "ok"].iloc[0]
+        print(f"uvms: warning: {failed} of {len(rows)} runs failed (status=failed in runs.csv), e.g. "
+              f"{example['run_id']}: {example['error']}", file=sys.stderr)
+    ok = rows[rows["status"] == "ok"]
+    for metric in sweep.metrics:
+        if len(ok) and ok[metric].isna().all():
+            print(f"uvms: warning: metric {metric} is empty in every run: these runs record no such series",
+                  file=sys.stderr)
+    return 0
+
+
+def _cpu_count() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+class _Progress:
+    """A rich progress bar on stderr (on a terminal only); remembers the counts for the final message."""
+
+    def __init__(self, label: str, where: str) -> None:
+        from rich.console import Console
+
+        self.label, self.where = label, where
+        self.console = Console(stderr=True)
+        self.bar = None
+        self.task = None
+        self.done = self.total = self.skipped = 0
+        self._first = True
+
+    def __call__(self, done: int, total: int) -> None:
+        if self._first:
+            self._first = False
+            self.skipped = done
+        self.done, self.total = done, total
+        if not self.console.is_terminal:
+            return
+        if self.bar is None:
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeElapsedColumn,
+                TimeRemainingColumn,
+            )
+
+            self.bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                                TimeElapsedColumn(), TimeRemainingColumn(), console=self.console, transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task(f"{self.label} ({self.where})", total=total, completed=done)
+        self.bar.update(self.task, completed=done)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+            self.bar = None
+
+
+def _quantile_table(summary, name: str):
+    """Metric quantiles (5/50/95 %) per controller as a rich table."""
+    from rich import box
+    from rich.table import Table
+
+    table = Table(title=f"{name}: quantiles over the ok runs", box=box.SIMPLE, pad_edge=False)
+    for column, justify in (("metric", "left"), ("controller", "left"), ("ok/runs", "right"), ("5 %", "right"),
+                            ("50 %", "right"), ("95 %", "right")):
+        table.add_column(column, justify=justify, no_wrap=True)
+    for metric, group in summary.groupby("metric", sort=False):
+        for k, (_, row) in enumerate(group.iterrows()):
+            table.add_row(metric if k == 0 else "", str(row["controller"]), f"{row['ok']}/{row['runs']}",
+                          *(f"{row[q]:.3g}" for q in ("q05", "q50", "q95")), end_section=k == len(group) - 1)
+    return table
