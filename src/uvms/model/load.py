@@ -18,6 +18,7 @@ import yaml
 from pydantic import BaseModel, ValidationError
 from pydantic_core import ErrorDetails
 
+from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
 from uvms.model.build import build_model
 from uvms.model.model import Model
@@ -139,19 +140,13 @@ def format_validation_error(exc: ValidationError, source: str | None, *,
 
 
 def bundled_models() -> list[str]:
-    """Names of the models shipped with uvms (``uvms/model/models/<name>.yaml``)."""
-    return sorted(entry.name[: -len(".yaml")] for entry in _MODELS.iterdir() if entry.name.endswith(".yaml"))
+    """Names of the models shipped with uvms."""
+    return bundled_names(_MODELS)
 
 
 def resolve_model_path(name_or_path: str | os.PathLike[str]) -> Path:
     """An existing file path as given, else the bundled model of that name."""
-    path = Path(name_or_path)
-    if path.exists():
-        return path
-    if str(name_or_path) in bundled_models():
-        return Path(str(_MODELS / f"{name_or_path}.yaml"))
-    raise UvmsInputError(f"no such file or bundled model (bundled: {', '.join(bundled_models())})",
-                         str(name_or_path))
+    return resolve_path(name_or_path, _MODELS, "model")
 
 
 def load_model_spec(name_or_path: str | os.PathLike[str]) -> tuple[ModelSpec, str]:

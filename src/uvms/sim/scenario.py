@@ -38,6 +38,7 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
+from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
 from uvms.model.load import bundled_models, load_model, read_yaml, validation_input_error
 from uvms.model.model import Model
@@ -425,19 +426,13 @@ class Scenario:
 
 
 def bundled_scenarios() -> list[str]:
-    """Names of the scenarios shipped with uvms (``uvms/scenarios/<name>.yaml``)."""
-    return sorted(e.name[: -len(".yaml")] for e in _SCENARIOS.iterdir() if e.name.endswith(".yaml"))
+    """Names of the scenarios shipped with uvms."""
+    return bundled_names(_SCENARIOS)
 
 
 def resolve_scenario_path(name_or_path: str | os.PathLike[str]) -> Path:
     """An existing file path as given, else the bundled scenario of that name."""
-    path = Path(name_or_path)
-    if path.exists():
-        return path
-    if str(name_or_path) in bundled_scenarios():
-        return Path(str(_SCENARIOS / f"{name_or_path}.yaml"))
-    raise UvmsInputError(f"no such file or bundled scenario (bundled: {', '.join(bundled_scenarios())})",
-                         str(name_or_path))
+    return resolve_path(name_or_path, _SCENARIOS, "scenario")
 
 
 def load_scenario(name_or_path: str | os.PathLike[str]) -> Scenario:

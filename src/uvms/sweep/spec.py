@@ -41,6 +41,7 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
+from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
 from uvms.model.load import read_yaml, validation_input_error
 from uvms.model.schema import fail, show
@@ -401,21 +402,13 @@ def make_runs(spec: SweepSpec) -> tuple[SweepRun, ...]:
 
 
 def bundled_sweeps() -> list[str]:
-    """Names of the sweeps shipped with uvms (``uvms/sweeps/<name>.yaml``)."""
-    if not _SWEEPS.is_dir():
-        return []
-    return sorted(e.name[: -len(".yaml")] for e in _SWEEPS.iterdir() if e.name.endswith(".yaml"))
+    """Names of the sweeps shipped with uvms."""
+    return bundled_names(_SWEEPS)
 
 
 def resolve_sweep_path(name_or_path: str | os.PathLike[str]) -> Path:
     """An existing file path as given, else the bundled sweep of that name."""
-    path = Path(name_or_path)
-    if path.exists():
-        return path
-    if str(name_or_path) in bundled_sweeps():
-        return Path(str(_SWEEPS / f"{name_or_path}.yaml"))
-    raise UvmsInputError(f"no such file or bundled sweep (bundled: {', '.join(bundled_sweeps()) or 'none'})",
-                         str(name_or_path))
+    return resolve_path(name_or_path, _SWEEPS, "sweep")
 
 
 def load_sweep(name_or_path: str | os.PathLike[str]) -> Sweep:

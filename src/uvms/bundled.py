@@ -1,0 +1,31 @@
+"""Files shipped with uvms (models, scenarios, sweeps), found by name or by path."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from uvms.errors import UvmsInputError
+
+
+def bundled_names(folder) -> list[str]:
+    """Names (file stems) of the YAML files in a package folder (an ``importlib.resources`` traversable)."""
+    if not folder.is_dir():
+        return []
+    return sorted(e.name[: -len(".yaml")] for e in folder.iterdir() if e.name.endswith(".yaml"))
+
+
+def resolve_path(name_or_path: str | os.PathLike[str], folder, kind: str) -> Path:
+    """An existing file path as given, else the bundled ``kind`` (model, scenario, sweep) of that name.
+
+    Raises:
+        UvmsInputError: neither (one line listing the bundled names).
+    """
+    path = Path(name_or_path)
+    if path.exists():
+        return path
+    names = bundled_names(folder)
+    if str(name_or_path) in names:
+        return Path(str(folder / f"{name_or_path}.yaml"))
+    raise UvmsInputError(f"no such file or bundled {kind} (bundled: {', '.join(names) or 'none'})",
+                         str(name_or_path))
