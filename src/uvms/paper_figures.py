@@ -6,8 +6,6 @@ axis labels with units and a legend, and writes the PNG atomically (temporary fi
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -30,17 +28,13 @@ def _pyplot():
 
 
 def _save(fig, path: Path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".png", dir=path.parent)
-    os.close(fd)
+    from uvms.plots import save_figure
+
+    fig.tight_layout()
     try:
-        fig.savefig(tmp, dpi=120, bbox_inches="tight")
-        os.replace(tmp, path)
+        return save_figure(fig, path, dpi=120)
     finally:
-        Path(tmp).unlink(missing_ok=True)
         _pyplot().close(fig)
-    return path
 
 
 def fig4_ee_path(results: dict, path) -> Path:
@@ -68,6 +62,7 @@ def _error_figure(result, series, title: str, path, *, scale: float, unit: str, 
     fig, axes = plt.subplots(3, 1, figsize=(7.0, 6.4), sharex=True)
     t = result.time
     e = series["error"]
+    off_scale = False
     labels = (f"x error [{unit}]", f"y error [{unit}]", "yaw error [deg]")
     for j, ax in enumerate(axes):
         y = np.degrees(np.unwrap(e[:, j])) if j == 2 else e[:, j] * scale      # yaw unwrapped past 180 deg
@@ -77,12 +72,13 @@ def _error_figure(result, series, title: str, path, *, scale: float, unit: str, 
                 ax.axhline(epsilon * scale, color="0.4", linestyle=":", label=r"$\pm\varepsilon = \Phi/\lambda$")
                 ax.axhline(-epsilon * scale, color="0.4", linestyle=":")
             else:
-                ax.text(0.01, 0.95, f"bound $\\pm\\varepsilon$ = $\\pm${epsilon * scale:.2f} {unit} is off this scale",
-                        transform=ax.transAxes, va="top", fontsize=8, color="0.3")
+                off_scale = True
         ax.set_ylabel(labels[j])
         ax.grid(True, alpha=0.3)
     axes[0].legend(loc="best", fontsize=8)
     axes[-1].set_xlabel("time [s]")
+    if off_scale:
+        title += f"\nguaranteed bound $\\pm\\varepsilon = \\Phi/\\lambda$ = $\\pm${epsilon * scale:.2f} {unit}, far outside these axes"
     axes[0].set_title(title)
     return _save(fig, path)
 

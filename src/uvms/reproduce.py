@@ -170,7 +170,7 @@ def claims(metrics: dict, chatter: dict) -> list[dict[str, str]]:
                      f"{eps * 1e3:.2f} mm",
          "verdict": "holds" if c["peak_body_error_xy_m"] <= eps else "does not hold"},
         {"claim": "s remains inside the boundary layers (Fig. 7)",
-         "measured": f"max |s| / Phi = {s_ratio:.2f}; time outside: "
+         "measured": f"max abs(s) / Phi = {s_ratio:.2f}; time outside: "
                      + ", ".join(f"{a} {c['time_outside_boundary_s'][a]:.3f} s" for a in AXES),
          "verdict": "holds" if s_ratio <= 1.0 else "does not hold"},
         {"claim": "The controller gives the arm a fixed base: the end-effector path follows the fixed-URV path "

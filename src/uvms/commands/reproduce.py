@@ -39,9 +39,9 @@ def run(args: argparse.Namespace) -> int:
     out = Console()
     table = Table(title=f"Paper Section 6 ({args.actuators} actuators), epsilon = "
                         f"{metrics['epsilon_m'] * 1e3:.2f} mm")
-    for col in ("case", "peak |x| [m]", "peak |y| [m]", "peak |yaw| [deg]", "peak body xy error [mm]",
-                "peak ee deviation [mm]", "max |s|/Phi"):
-        table.add_column(col, justify="right" if col != "case" else "left")
+    for col in ("case", "peak |x| m", "peak |y| m", "peak |yaw| deg", "xy error mm", "ee deviation mm",
+                "max |s|/Phi"):
+        table.add_column(col, justify="right" if col != "case" else "left", no_wrap=col == "case")
     for name, c in metrics["cases"].items():
         s_ratio = max(c["max_abs_s"].values()) / reproduce.PAPER_PHI
         table.add_row(name, f"{c['peak_abs_x_m']:.4f}", f"{c['peak_abs_y_m']:.4f}",
