@@ -67,16 +67,16 @@ class State:
 
     @classmethod
     def trusted(cls, position, quaternion, nu, q, qd, actuator) -> "State":
-        """A state from arrays the integrator produced (already checked and normalised): no validation.
-
-        For the simulation loop only; user code should use the constructor or :meth:`from_euler`.
+        """A state from read-only arrays the integrator produced (checked and normalised): no validation and
+        no copies. For the simulation loop only; user code should use the constructor or :meth:`from_euler`.
         """
         obj = object.__new__(cls)
-        for name, value in (("position", position), ("quaternion", quaternion), ("nu", nu), ("q", q), ("qd", qd),
-                            ("actuator", actuator)):
-            a = value.copy()
-            a.flags.writeable = False
-            object.__setattr__(obj, name, a)
+        object.__setattr__(obj, "position", position)
+        object.__setattr__(obj, "quaternion", quaternion)
+        object.__setattr__(obj, "nu", nu)
+        object.__setattr__(obj, "q", q)
+        object.__setattr__(obj, "qd", qd)
+        object.__setattr__(obj, "actuator", actuator)
         return obj
 
     @classmethod

@@ -67,7 +67,7 @@ from uvms.control.registry import (
     vector,
 )
 from uvms.errors import UvmsInputError
-from uvms.rotations import euler_from_rotation, wrap_angle
+from uvms.rotations import wrap_angle
 
 AXES: tuple[str, ...] = ("surge", "sway", "yaw")
 """The controlled axes, in this order everywhere (errors, gains, logged signals)."""
@@ -178,20 +178,29 @@ def _cross(a, b) -> np.ndarray:
 
 
 def axis_kinematics(state, position_desired: np.ndarray, yaw_desired: float) -> AxisKinematics:
-    """Errors, rates and velocities of the surge, sway and yaw axes for a constant desired pose."""
+    """Errors, rates and velocities of the surge, sway and yaw axes for a constant desired pose.
+
+    Written with scalar math (it runs at every control update)."""
     R = state.rotation
-    nu = state.nu
-    omega = nu[:3]
-    e3 = R.T @ (state.position - position_desired)
-    e3_dot = nu[3:] - _cross(omega, e3)
-    euler = euler_from_rotation(R)
-    phi, theta, psi = euler
-    psi_dot = (math.sin(phi) * omega[1] + math.cos(phi) * omega[2]) / math.cos(theta)
+    p0, p1, p2, q0, q1, q2, r0, r1, r2 = R.ravel().tolist()
+    d0, d1, d2 = (state.position - position_desired).tolist()
+    w0, w1, w2, u, v, w = state.nu.tolist()
+    e0 = p0 * d0 + q0 * d1 + r0 * d2                  # e = R^T (p - p_d)
+    e1 = p1 * d0 + q1 * d1 + r1 * d2
+    e2 = p2 * d0 + q2 * d1 + r2 * d2
+    ed0 = u - (w1 * e2 - w2 * e1)                      # e_dot = v - omega x e
+    ed1 = v - (w2 * e0 - w0 * e2)
+    ed2 = w - (w0 * e1 - w1 * e0)
+    theta = -math.asin(min(max(r0, -1.0), 1.0))        # ZYX Euler angles of R (r0 = R[2, 0])
+    phi = math.atan2(r1, r2)
+    psi = math.atan2(q0, p0)
+    psi_dot = (math.sin(phi) * w1 + math.cos(phi) * w2) / math.cos(theta)
     return AxisKinematics(
-        error=np.array([e3[0], e3[1], float(wrap_angle(psi - yaw_desired))]),
-        error_rate=np.array([e3_dot[0], e3_dot[1], psi_dot]),
-        velocity=np.array([nu[3], nu[4], nu[2]]),
-        error3=e3, rate3=e3_dot, omega=omega, euler=euler,
+        error=np.array([e0, e1, wrap_angle(psi - yaw_desired)]),
+        error_rate=np.array([ed0, ed1, psi_dot]),
+        velocity=np.array([u, v, w2]),
+        error3=np.array([e0, e1, e2]), rate3=np.array([ed0, ed1, ed2]), omega=np.array([w0, w1, w2]),
+        euler=np.array([phi, theta, psi]),
     )
 
 

@@ -17,6 +17,7 @@ from uvms.control.base import Measurement
 from uvms.control.registry import register
 from uvms.control.smc import SlidingModeController, SlidingModeParameters
 from uvms.dynamics.aba import aba
+from uvms.dynamics.fastcall import specialised
 from uvms.dynamics.kernel_model import make_workspace
 
 
@@ -37,11 +38,15 @@ class ArticulatedBodySMC(SlidingModeController):
         self._fluid_acceleration = np.array(self.model.fluid_acceleration, dtype=float)
         self._nu_dot = np.zeros(6)
         self._qdd = np.zeros(n)
+        self._aba = None
 
     def predict(self, measurement: Measurement) -> tuple[np.ndarray, np.ndarray]:
         """``nu_dot`` at ``f_0 = 0`` by the articulated-body algorithm, and the articulated inertia ``I_0^*``."""
         st = measurement.state
-        aba(self.model.kernel, self._ws, st.rotation, np.array(st.nu), np.array(st.q), np.array(st.qd),
-            np.array(measurement.joint_torques, dtype=float), self._zero6, self._zero6, self._current,
-            self._fluid_acceleration, False, self._nu_dot, self._qdd)
+        args = (self.model.kernel, self._ws, st.rotation, np.array(st.nu), np.array(st.q), np.array(st.qd),
+                np.array(measurement.joint_torques, dtype=float), self._zero6, self._zero6, self._current,
+                self._fluid_acceleration, False, self._nu_dot, self._qdd)
+        if self._aba is None:
+            self._aba = specialised(aba, *args)          # compiled ABA without per-call type dispatch
+        self._aba(*args)
         return self._nu_dot.copy(), self._ws.IA[0]

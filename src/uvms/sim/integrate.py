@@ -40,11 +40,13 @@ def pack(state) -> np.ndarray:
 
 
 def unpack(x: np.ndarray, n_joints: int):
-    """The :class:`~uvms.state.State` of ``x``."""
+    """The :class:`~uvms.state.State` of ``x`` (one copy of ``x``; the fields are read-only views of it)."""
     from uvms.state import State
 
     n = n_joints
-    return State.trusted(x[0:3], x[3:7], x[7:13], x[13:13 + n], x[13 + n:13 + 2 * n], x[13 + 2 * n:])
+    c = x.copy()
+    c.flags.writeable = False
+    return State.trusted(c[0:3], c[3:7], c[7:13], c[13:13 + n], c[13 + n:13 + 2 * n], c[13 + 2 * n:])
 
 
 @njit(cache=True)

@@ -15,6 +15,7 @@ from typing import Any, Callable
 import numpy as np
 
 from uvms.control.base import ControlOutput, Measurement
+from uvms.dynamics.fastcall import specialised
 from uvms.dynamics.kernel_model import make_workspace
 from uvms.kinematics import end_effector_path
 from uvms.sim.actuation import actuator_kernel, n_actuator_states
@@ -213,6 +214,8 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     zero_cmd = np.zeros(max(len(actuation.thrusters), 6))
 
     last_command = zero_cmd
+    rk4_call = None
+    bounds = np.array(bounds, dtype=float)
     for event in events:
         t = done * h
         st = unpack(x, n)
@@ -236,8 +239,11 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         steps = event - done
         first_row = 0 if done == 0 else n_out
         if integrator.lower() == "rk4":
-            k_done, n_out, code = rk4(km, ws, act, x, t, h, steps, done, record_every, tau, f_ext, f_ee, command,
-                                      env_t, env_vc, env_af, bool(fixed_base), bounds, out_t, out_x, n_out)
+            args = (km, ws, act, x, float(t), float(h), int(steps), int(done), int(record_every), tau, f_ext, f_ee,
+                    command, env_t, env_vc, env_af, bool(fixed_base), bounds, out_t, out_x, int(n_out))
+            if rk4_call is None:
+                rk4_call = specialised(rk4, *args)
+            k_done, n_out, code = rk4_call(*args)
         else:
             k_done, n_out, code = _adaptive_segment(km, ws, act, x, t, h, steps, record_every, done, tau, f_ext,
                                                     f_ee, command, env_t, env_vc, env_af, bool(fixed_base),
