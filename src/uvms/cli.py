@@ -48,3 +48,7 @@ def main(argv: list[str] | None = None) -> int:
     except SimulationDiverged as exc:
         print(f"uvms: error: {exc}", file=sys.stderr)
         return 3
+    except OSError as exc:  # an output path that cannot be written, a file that vanished: the user's to fix
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"uvms: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2

@@ -85,9 +85,70 @@ def test_divergence_stops_with_a_message_and_partial_results(paper):
     assert len(r.time) >= 1
 
 
-def test_current_as_a_function_of_time_is_followed(paper):
-    """A time-varying current pushes a released vehicle; a constant one equal to its mean moves it differently."""
+@pytest.mark.parametrize("form", ["function", "table"])
+def test_neutral_body_is_carried_by_an_accelerating_current(paper, form):
+    """A neutrally buoyant vehicle (m_f = m, centre of buoyancy at the CoM) in a uniformly accelerating current
+    is pushed by m_f a_f (Eq. 7) plus I_A a_fluid (Eq. 2) = (m + m_A) a_f: it moves with the fluid, so its velocity
+    relative to the current stays zero, during the acceleration and after it stops."""
+    from uvms.sim.inputs import CurrentTable
+
     vehicle = paper.vehicle_only()
-    r = simulate(vehicle, duration=2.0, step=1e-3, current=lambda t: np.array([0.5 * t, 0.0, 0.0]),
-                 record_period=0.1)
-    assert r.nu[-1, 3] > 0.05                                         # dragged (and accelerated) along x
+    vehicle = vehicle.replace(buoyancy_mass=vehicle.mass, cob=vehicle.com)
+    a = np.array([0.3, -0.2, 0.0])
+    if form == "function":
+        current = lambda t: a * min(t, 1.0)  # noqa: E731  (accelerates for 1 s, then steady)
+    else:
+        current = CurrentTable.from_velocity_table([0.0, 1.0], [np.zeros(3), a], 2.0, 1e-3)
+    r = simulate(vehicle, duration=2.0, step=1e-3, current=current, record_period=0.05)
+    v_fluid = np.array([a * min(t, 1.0) for t in r.time])
+    # exact but for the one step that straddles the end of the acceleration (O(h a) = 3e-4 m/s at most)
+    np.testing.assert_allclose(r.nu[:, 3:], v_fluid, atol=3e-4)
+    # no rotation, but for the Munk moment (x-y added-mass difference) of that step's small residual slip
+    np.testing.assert_allclose(r.nu[:, :3], 0.0, atol=1e-8)
+    np.testing.assert_allclose(r.position[-1], a * 0.5 + a * 1.0, atol=3e-4)   # 0.5 a t^2 then a t
+
+
+def test_adaptive_divergence_stops_at_the_bad_sample(paper):
+    r = simulate(paper, duration=1.0, step=1e-3, joint_torques=[1e7, 0.0, 0.0], integrator="DOP853",
+                 record_period=0.01)
+    assert not r.complete and "diverged" in r.message
+    assert r.time[-1] < 0.1                                              # not at the end of the segment
+    assert np.all(np.diff(r.time) > 0)                                   # no duplicated rows
+
+
+class _Counter:
+    """A stand-in controller that counts its updates and logs the time it was called."""
+
+    def __init__(self, period):
+        self.period = period
+        self.calls = []
+
+    def reset(self):
+        self.calls = []
+
+    def update(self, measurement):
+        from uvms.control.base import ControlOutput
+
+        self.calls.append(measurement.time)
+        return ControlOutput(wrench=np.zeros(6), signals={"called_at": measurement.time})
+
+
+def test_controller_runs_at_its_own_period_beside_a_faster_arm(paper):
+    controller = _Counter(0.01)
+    arm_calls = []
+
+    def arm(t, state):
+        arm_calls.append(t)
+        return np.zeros(3)
+
+    r = simulate(paper, duration=0.1, step=1e-3, controller=controller, joint_torques=arm, control_period=0.002)
+    np.testing.assert_allclose(controller.calls, np.arange(10) * 0.01, atol=1e-12)
+    np.testing.assert_allclose(arm_calls, np.arange(50) * 0.002, atol=1e-12)
+    # logged signals hold the value of the last update at or before each row's time (zero-order hold)
+    expected = np.floor(r.time / 0.01 + 1e-9) * 0.01
+    np.testing.assert_allclose(r.signals["called_at"], np.minimum(expected, 0.09), atol=1e-12)
+
+
+def test_a_schedule_of_the_wrong_width_is_refused(paper):
+    with pytest.raises(ValueError, match="3 joints"):
+        simulate(paper, duration=0.1, joint_torques=TorqueSchedule.constant([1.0]))

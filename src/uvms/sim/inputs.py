@@ -64,6 +64,26 @@ class CurrentTable:
                    np.atleast_2d(np.asarray(acceleration, dtype=float)))
 
     @classmethod
+    def from_velocity_table(cls, times, velocity, duration: float, step: float) -> "CurrentTable":
+        """A velocity table (linear between knots, held outside) with its exact fluid acceleration: the slope of
+        each segment, zero outside the table; resampled on the integrator's half-step grid."""
+        t_k = np.asarray(times, dtype=float).reshape(-1)
+        v_k = np.asarray(velocity, dtype=float).reshape(-1, 3)
+        if t_k.size == 1:
+            return cls.constant(v_k[0])
+        slopes = np.diff(v_k, axis=0) / np.diff(t_k)[:, None]
+
+        def vel(t: float) -> np.ndarray:
+            return np.array([np.interp(t, t_k, v_k[:, j]) for j in range(3)])
+
+        def acc(t: float) -> np.ndarray:
+            if t < t_k[0] or t >= t_k[-1]:
+                return np.zeros(3)
+            return slopes[min(int(np.searchsorted(t_k, t, side="right")) - 1, slopes.shape[0] - 1)]
+
+        return cls.from_function(vel, duration, step, acceleration=acc)
+
+    @classmethod
     def from_function(cls, velocity: Callable[[float], np.ndarray], duration: float, step: float,
                       acceleration: Callable[[float], np.ndarray] | None = None) -> "CurrentTable":
         """Sample ``velocity(t)`` on the half-step grid; the acceleration by central differences unless given."""

@@ -46,6 +46,15 @@ class Actuation:
         return cls(() if name in (None, "ideal") else layout(name))
 
 
+def _six(value, name: str) -> np.ndarray:
+    if value is None:
+        return np.zeros(6)
+    a = np.array(value, dtype=float).reshape(-1)
+    if a.shape != (6,):
+        raise ValueError(f"{name}: expected 6 values [moment; force], got {a.size}")
+    return a
+
+
 def _quantity_name(index: int, n: int) -> str:
     names = ["x", "y", "z", "qw", "qx", "qy", "qz", "p (roll rate)", "q (pitch rate)", "r (yaw rate)",
              "u (surge velocity)", "v (sway velocity)", "w (heave velocity)"]
@@ -119,7 +128,8 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     """Simulate ``duration`` seconds from ``initial_state`` (default: at rest at the origin).
 
     Args:
-        step: integration step [s] (RK4), or the maximum step of the adaptive integrator.
+        step: integration step [s] (RK4); for an adaptive integrator the recording grid (its own steps are
+            at most 50 of these).
         integrator: ``"rk4"`` (compiled, fixed step) or a ``solve_ivp`` method (``"DOP853"``, ``"LSODA"`` ...).
         fixed_base: clamp the vehicle (a land-based arm); released otherwise.
         joint_torques: constant (n,), a :class:`TorqueSchedule`, or a callable ``(t, state) -> (n,)``
@@ -130,7 +140,8 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
             default: the model's environment.
         controller: a vehicle controller (:class:`uvms.control.base.Controller`) or ``None``.
         actuation: thrusters between the controller and the vehicle (default: ideal body wrench).
-        control_period: hold time of controller/arm-command updates [s] (default: the controller's own period).
+        control_period: update period of a callable ``joint_torques`` (an arm controller) [s] (default: its
+            ``period`` attribute, or 10 ms). A vehicle controller is updated at its own ``period``.
         record_period: sampling of the result [s] (default: every step, at most 20 000 samples).
         progress: ``progress(t, duration)`` called after each segment.
     """
@@ -152,15 +163,21 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
 
     n_total = int(round(duration / step))
     h = duration / n_total
-    # -- events: controller updates and schedule breakpoints, on the step grid
-    if control_period is None:
-        control_period = getattr(controller, "period", None) or (0.01 if callable(joint_torques) else duration)
-    every = max(1, int(round(control_period / h)))
-    events = set(range(every, n_total, every))
+    # -- events on the step grid: controller updates (its own period), arm-command updates (control_period),
+    #    and the breakpoints of a torque schedule (snapped to the nearest step)
+    arm_callable = callable(joint_torques) and not isinstance(joint_torques, TorqueSchedule)
+    ctrl_every = arm_every = 0
+    if controller is not None:
+        ctrl_every = max(1, int(round((getattr(controller, "period", None) or control_period or 0.01) / h)))
+    if arm_callable:
+        arm_every = max(1, int(round((control_period or getattr(joint_torques, "period", None) or 0.01) / h)))
+    events = {n_total}
+    for every in (ctrl_every, arm_every):
+        if every:
+            events.update(range(every, n_total, every))
     if isinstance(joint_torques, TorqueSchedule):
         events.update(int(round(tb / h)) for tb in joint_torques.breakpoints() if 0 < tb < duration)
-    events.add(n_total)
-    events = sorted(events)
+    events = sorted(e for e in events if e > 0)
     if record_period is None:
         record_period = h * max(1, int(np.ceil(n_total / 20000)))
     record_every = max(1, int(round(record_period / h)))
@@ -182,14 +199,17 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     def torques_at(t: float, st: State) -> np.ndarray:
         if joint_torques is None:
             return np.zeros(n)
-        if isinstance(joint_torques, TorqueSchedule):
-            return np.array(joint_torques(t), dtype=float)
+        if isinstance(joint_torques, TorqueSchedule):      # breakpoints snap to the nearest step
+            return np.array(joint_torques(t + 0.5 * h), dtype=float).reshape(n)
         if callable(joint_torques):
             return np.array(joint_torques(t, st), dtype=float).reshape(n)
         return np.array(joint_torques, dtype=float).reshape(n)
 
-    f_ext = np.zeros(6) if body_wrench is None else np.array(body_wrench, dtype=float).reshape(6)
-    f_ee = np.zeros(6) if ee_wrench is None else np.array(ee_wrench, dtype=float).reshape(6)
+    if isinstance(joint_torques, TorqueSchedule) and joint_torques.torques.shape[1] != n:
+        raise ValueError(f"joint_torques: the schedule has {joint_torques.torques.shape[1]} torques per row, "
+                         f"the model has {n} joints")
+    f_ext = _six(body_wrench, "body_wrench")
+    f_ee = _six(ee_wrench, "ee_wrench")
     commands = _Commands(actuation.thrusters)
     if controller is not None and hasattr(controller, "reset"):
         controller.reset()
@@ -199,8 +219,6 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     n_rec = n_total // record_every + 2
     out_t = np.zeros(n_rec)
     out_x = np.zeros((n_rec, x.size))
-    out_tau = np.zeros((n_rec, n))
-    signal_rows: list[tuple[int, int, dict[str, float]]] = []
     out_t[0] = 0.0
     out_x[0] = x
     n_out = 1
@@ -212,18 +230,19 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     thrust = np.zeros(max(len(actuation.thrusters), 1))
     xdot = np.zeros(x.size)
     zero_cmd = np.zeros(max(len(actuation.thrusters), 6))
-
-    last_command = zero_cmd
     rk4_call = None
     bounds = np.array(bounds, dtype=float)
+    tau = np.zeros(n)
+    command = zero_cmd
+    signals: dict[str, float] = {}
+    updates: list[tuple[float, np.ndarray, dict[str, float]]] = []      # (time, tau, signals), zero-order hold
     for event in events:
         t = done * h
         st = unpack(x, n)
-        tau = torques_at(t, st)
-        signals: dict[str, float] = {}
-        command = zero_cmd
-        if controller is not None:
-            def true_nu_dot(x=x.copy(), t=t, tau=tau, held=last_command):
+        if not arm_callable or done % arm_every == 0:
+            tau = torques_at(t, st)
+        if controller is not None and done % ctrl_every == 0:
+            def true_nu_dot(x=x.copy(), t=t, tau=tau, held=command):
                 state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, held, env_t, env_vc, env_af, bool(fixed_base),
                                  xdot, R, vecs, thrust)
                 return xdot[7:13].copy()
@@ -235,48 +254,49 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
             signals = dict(out.signals)
             signals.update(zip(_COMMAND_NAMES, wrench.tolist()))
             signals.update(alloc_signals)
-        last_command = command
+        updates.append((t, tau, signals))
         steps = event - done
-        first_row = 0 if done == 0 else n_out
         if integrator.lower() == "rk4":
             args = (km, ws, act, x, float(t), float(h), int(steps), int(done), int(record_every), tau, f_ext, f_ee,
                     command, env_t, env_vc, env_af, bool(fixed_base), bounds, out_t, out_x, int(n_out))
             if rk4_call is None:
                 rk4_call = specialised(rk4, *args)
             k_done, n_out, code = rk4_call(*args)
+            reason = ""
         else:
-            k_done, n_out, code = _adaptive_segment(km, ws, act, x, t, h, steps, record_every, done, tau, f_ext,
-                                                    f_ee, command, env_t, env_vc, env_af, bool(fixed_base),
-                                                    bounds, out_t, out_x, n_out, integrator, rtol, atol)
-        out_tau[first_row:n_out] = tau
-        signal_rows.append((first_row, n_out, signals))
+            k_done, n_out, code, reason = _adaptive_segment(km, ws, act, x, t, h, steps, record_every, done, tau,
+                                                            f_ext, f_ee, command, env_t, env_vc, env_af,
+                                                            bool(fixed_base), bounds, out_t, out_x, n_out,
+                                                            integrator, rtol, atol)
         done += k_done
         if code != 0:
             complete = False
             idx = abs(code) - 1
-            what = "is not finite" if code < 0 else "left its sane range"
-            message = (f"simulation diverged at t = {done * h:.4g} s: {_quantity_name(idx, n)} {what}; "
+            what = reason or ("is not finite" if code < 0 else "left its sane range")
+            quantity = "" if reason else f"{_quantity_name(idx, n)} "
+            message = (f"simulation diverged at t = {done * h:.4g} s: {quantity}{what}; "
                        f"try a smaller step (now {h:g} s)")
-            out_t[n_out] = done * h
-            out_x[n_out] = x
-            out_tau[n_out] = tau
-            n_out += 1
+            if n_out == 0 or out_t[n_out - 1] < done * h:
+                out_t[n_out] = done * h
+                out_x[n_out] = x
+                n_out += 1
             break
         if progress is not None:
             progress(done * h, duration)
 
     out_t = out_t[:n_out]
     out_x = out_x[:n_out]
-    names = sorted({k for _, _, s in signal_rows for k in s})
-    sig = {k: np.full(n_out, np.nan) for k in names}
-    for a, b, s in signal_rows:
-        for k, v in s.items():
-            sig[k][a:b] = v
+    # inputs and signals of each row: those of the last update at or before its time (zero-order hold)
+    update_times = np.array([u[0] for u in updates])
+    which = np.clip(np.searchsorted(update_times, out_t + 0.5 * h, side="right") - 1, 0, len(updates) - 1)
+    out_tau = np.array([updates[k][1] for k in which]).reshape(n_out, n)
+    names = sorted({k for _, _, sg in updates for k in sg})
+    sig = {k: np.array([updates[j][2].get(k, np.nan) for j in which], dtype=float) for k in names}
     ee = np.zeros((n_out, 3))
     end_effector_path(km, np.ascontiguousarray(out_x), ee)
     meta = {"integrator": integrator, "step_s": h, "duration_s": duration, "fixed_base": bool(fixed_base),
             "wall_time_s": _time.perf_counter() - wall0, "model": model.name, **_versions(), **(metadata or {})}
-    return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau[:n_out],
+    return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
                   signals=sig, complete=complete, message=message, metadata=meta)
 
 
@@ -292,7 +312,11 @@ def _versions() -> dict[str, str]:
 
 def _adaptive_segment(km, ws, act, x, t0, h, steps, record_every, done, tau, f_ext, f_ee, command, env_t, env_vc,
                       env_af, fixed_base, bounds, out_t, out_x, n_out, method, rtol, atol):
-    """One held-input segment with ``scipy.integrate.solve_ivp``; records on the same grid as RK4."""
+    """One held-input segment with ``scipy.integrate.solve_ivp``; records on the same grid as RK4.
+
+    Returns ``(steps_done, n_out, code, reason)`` like :func:`~uvms.sim.integrate.rk4`, with ``reason`` set when
+    the solver itself gave up. ``step`` bounds the recording grid; the solver's own steps are at most 50 of them.
+    """
     from scipy.integrate import solve_ivp
 
     n = km.parent.shape[0] - 1
@@ -313,17 +337,19 @@ def _adaptive_segment(km, ws, act, x, t0, h, steps, record_every, done, tau, f_e
         t_eval.append(t1)
     sol = solve_ivp(f, (t0, t1), x, method=method, rtol=rtol, atol=atol, max_step=max(h, 1e-6) * 50,
                     t_eval=t_eval)
-    if not sol.success:
-        if sol.y.size:
-            x[:] = sol.y[:, -1]
-        return 0, n_out, -1
-    for j, k in enumerate(grid):
-        if n_out < out_t.shape[0]:
-            out_t[n_out] = k * h
-            out_x[n_out] = sol.y[:, j]
-            out_x[n_out, 3:7] /= np.linalg.norm(out_x[n_out, 3:7])
+    for j in range(sol.y.shape[1]):                 # every output sample is checked, as RK4 checks every step
+        y = sol.y[:, j].copy()
+        y[3:7] /= np.linalg.norm(y[3:7])
+        code = check_state(y, n, bounds)
+        k = int(round(sol.t[j] / h))
+        x[:] = y
+        if code != 0:
+            return k - done, n_out, code, ""
+        if j < len(grid) and n_out < out_t.shape[0]:
+            out_t[n_out] = grid[j] * h
+            out_x[n_out] = y
             n_out += 1
-    x[:] = sol.y[:, -1]
-    x[3:7] /= np.linalg.norm(x[3:7])
-    code = check_state(x, n, bounds)
-    return steps, n_out, code
+    if not sol.success:
+        k = int(round(sol.t[-1] / h)) if sol.t.size else done
+        return k - done, n_out, -1, f"the {method} solver stopped ({sol.message})"
+    return steps, n_out, 0, ""

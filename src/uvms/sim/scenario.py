@@ -270,6 +270,11 @@ class JointTrajectorySpec(Spec):
                        "angles")
         if any(b <= a for a, b in zip(self.times, self.times[1:])):
             raise fail(f"expected increasing knot times, found {show(list(self.times))}", "times")
+        n = len(self.angles[0]) if self.angles else 0
+        for name in ("kp", "kd"):
+            gain = getattr(self, name)
+            if isinstance(gain, tuple) and len(gain) != n:
+                raise fail(f"expected one gain or {n} (one per joint), found {len(gain)}", name)
         return self
 
     def tracker_for(self, model):
@@ -414,10 +419,8 @@ class Scenario:
         t = np.array(c.table.times, dtype=float)
         v = np.array(c.table.velocity, dtype=float)
         if c.table.acceleration is not None:
-            a = np.array(c.table.acceleration, dtype=float)
-        else:
-            a = np.gradient(v, t, axis=0) if t.size > 1 else np.zeros_like(v)
-        return CurrentTable(t, v, a)
+            return CurrentTable(t, v, np.array(c.table.acceleration, dtype=float))
+        return CurrentTable.from_velocity_table(t, v, self.spec.duration, self.spec.step)
 
     def make_controller(self):
         """A fresh controller from the registry (``None`` without one)."""
@@ -487,11 +490,10 @@ def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None]
                 "model_source": scenario.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
                 "controller": spec.controller.name if spec.controller else None}
     joint_torques = inputs.torque_schedule()
-    control_period = spec.controller.period if spec.controller else None
+    control_period = None                         # the vehicle controller runs at its own period
     if inputs.joint_trajectory is not None:
         joint_torques = inputs.joint_trajectory.tracker_for(scenario.model)
-        period = inputs.joint_trajectory.period
-        control_period = min(control_period, period) if control_period else period
+        control_period = inputs.joint_trajectory.period
     return simulate(
         scenario.model, scenario.initial_state(), duration=spec.duration, step=spec.step,
         integrator=spec.integrator, fixed_base=scenario.fixed_base, joint_torques=joint_torques,
