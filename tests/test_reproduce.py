@@ -64,3 +64,22 @@ def test_the_paper_claims_hold(reproduced):
     assert verdicts.pop(premise) == "does not hold"
     assert 45.0 < m["plant_b"]["surge"][0] and m["plant_b"]["yaw"][0] > 1.287
     assert all(v == "holds" for v in verdicts.values())
+
+
+def test_refuses_to_overwrite_an_unrelated_folder(tmp_path, capsys):
+    """-o pointing at a folder with other files: one line, exit 2, nothing touched, nothing simulated."""
+    (tmp_path / "notes.txt").write_text("mine")
+    assert main(["reproduce", "paper", "-o", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "not empty" in err[0]
+    assert [p.name for p in tmp_path.iterdir()] == ["notes.txt"]
+
+
+@pytest.mark.slow
+def test_rerun_replaces_the_previous_reproduction_whole(reproduced):
+    out, _ = reproduced
+    (out / "stale.txt").write_text("from an older run")
+    assert main(["reproduce", "paper", "-o", str(out), "--no-comparison"]) == 0
+    names = {p.name for p in out.iterdir()}
+    assert "stale.txt" not in names and "comparison.csv" not in names and "metrics.json" in names
+    assert not [p for p in out.parent.iterdir() if p.name.startswith(f".{out.name}.")]    # no temporary left

@@ -18,6 +18,9 @@ from __future__ import annotations
 import base64
 import json
 import math
+import os
+import shutil
+import tempfile
 import time as _time
 from pathlib import Path
 from typing import Any, Callable
@@ -245,14 +248,62 @@ def write_report(out_dir: Path, metrics: dict, claim_rows: list[dict], table) ->
 def paper(out_dir="reproduce-paper", *, actuators: str = "ideal", compare: bool = True,
           progress: Callable[[str], None] | None = None) -> dict:
     """Run the three cases, write figures, ``metrics.json``, ``report.md``/``.html`` into ``out_dir``; return
-    the metrics (``{"epsilon_m", "actuators", "cases": {"fixed"|"released"|"controlled": {...}}, ...}``)."""
+    the metrics (``{"epsilon_m", "actuators", "cases": {"fixed"|"released"|"controlled": {...}}, ...}``).
+
+    Everything is written into a temporary sibling folder that replaces ``out_dir`` in one rename at the end, so
+    an interrupted run never leaves a mix of old and new files.
+    """
+    wall0 = _time.perf_counter()
+    final = _check_output(Path(out_dir))
+    final.parent.mkdir(parents=True, exist_ok=True)
+    out = Path(tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent))
+    try:
+        metrics = _reproduce_into(out, actuators, compare, progress, wall0)
+        _publish(out, final)
+    except BaseException:
+        shutil.rmtree(out, ignore_errors=True)
+        raise
+    return metrics
+
+
+def _check_output(out: Path) -> Path:
+    """The output folder may be new, empty, or a previous reproduction (it is then replaced as a whole)."""
+    from uvms.errors import UvmsInputError
+
+    out = out.resolve()
+    if out.exists():
+        if not out.is_dir():
+            raise UvmsInputError("exists and is not a folder", str(out))
+        if any(out.iterdir()) and not (out / "metrics.json").exists():
+            raise UvmsInputError("folder is not empty and holds no earlier reproduction (metrics.json); "
+                                 "choose another -o", str(out))
+    return out
+
+
+def _publish(tmp: Path, final: Path) -> None:
+    """Put the finished folder in place in one rename (an older reproduction is swapped out first)."""
+    os.chmod(tmp, 0o777 & ~_umask())
+    if final.exists():
+        old = final.with_name(f".{final.name}.old.{os.getpid()}")
+        final.rename(old)
+        tmp.rename(final)
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        tmp.rename(final)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def _reproduce_into(out: Path, actuators: str, compare: bool, progress, wall0: float) -> dict:
+    """Everything of :func:`paper`, written into ``out``."""
     import uvms
     from uvms import paper_figures as figs
     from uvms.control.compare import axis_series, sign_changes
 
-    wall0 = _time.perf_counter()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     model = uvms.load_model("paper")
     results = run(model, actuators=actuators, progress=progress)
     fixed = results["fixed"]
