@@ -50,7 +50,7 @@ def quaternion_from_rotation(R: np.ndarray) -> np.ndarray:
 
 def rotation_from_quaternion(q: np.ndarray) -> np.ndarray:
     """Body-to-world rotation matrix of a quaternion ``[w, x, y, z]`` (normalised first)."""
-    w, x, y, z = (float(c) for c in q)
+    w, x, y, z = np.asarray(q, dtype=float).tolist()
     s = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
     w, x, y, z = w * s, x * s, y * s, z * s
     return np.array([

@@ -311,18 +311,20 @@ class SlidingModeController:
             b_hat, beta = self._fixed_b
         wrench = np.zeros(6)
         signals: dict[str, float] = {"Phi": par.boundary_layer}
+        error, rate, fh, error_rate = kin.error.tolist(), rates.tolist(), f_hat.tolist(), kin.error_rate.tolist()
+        bh, bt = b_hat.tolist(), beta.tolist()
         for j, names in enumerate(SIGNAL_NAMES):
-            cmd = slotine_law(float(kin.error[j]), float(rates[j]), float(f_hat[j]), bandwidth=par.bandwidth,
-                              eta=par.eta, boundary_layer=par.boundary_layer, uncertainty=par.uncertainty[j],
-                              b_hat=float(b_hat[j]), beta=float(beta[j]), error_rate=float(kin.error_rate[j]))
-            force = cmd.command / gain[j]
+            cmd = slotine_law(error[j], rate[j], fh[j], bandwidth=par.bandwidth, eta=par.eta,
+                              boundary_layer=par.boundary_layer, uncertainty=par.uncertainty[j], b_hat=bh[j],
+                              beta=bt[j], error_rate=error_rate[j])
+            force = cmd.command / float(gain[j])
             wrench[WRENCH_INDEX[j]] = force
             s_name, k_name, f_name, c_name, e_name, b_name = names
             signals[s_name] = cmd.s
             signals[k_name] = cmd.k
-            signals[f_name] = float(f_hat[j])
-            signals[c_name] = float(force)
-            signals[e_name] = float(kin.error[j])
+            signals[f_name] = fh[j]
+            signals[c_name] = force
+            signals[e_name] = error[j]
             if par.b_source == "model":
-                signals[b_name] = float(b_hat[j])
+                signals[b_name] = bh[j]
         return ControlOutput(wrench=wrench, signals=signals)
