@@ -291,7 +291,12 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     which = np.clip(np.searchsorted(update_times, out_t + 0.5 * h, side="right") - 1, 0, len(updates) - 1)
     out_tau = np.array([updates[k][1] for k in which]).reshape(n_out, n)
     names = sorted({k for _, _, sg in updates for k in sg})
-    sig = {k: np.array([updates[j][2].get(k, np.nan) for j in which], dtype=float) for k in names}
+    column = {k: i for i, k in enumerate(names)}
+    held = np.full((len(updates), len(names)), np.nan)
+    for u, (_, _, sg) in enumerate(updates):
+        for k, v in sg.items():
+            held[u, column[k]] = v
+    sig = {k: held[which, column[k]] for k in names}
     ee = np.zeros((n_out, 3))
     end_effector_path(km, np.ascontiguousarray(out_x), ee)
     meta = {"integrator": integrator, "step_s": h, "duration_s": duration, "fixed_base": bool(fixed_base),
