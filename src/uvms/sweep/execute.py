@@ -261,7 +261,7 @@ def _connect(workers: int, scheduler: str | None):
         return
 
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR, scheduler_port=0, preload=[__name__])
+                           silence_logs=logging.CRITICAL, scheduler_port=0, preload=[__name__])
     client = Client(cluster, set_as_default=False)
     try:
         yield client
