@@ -18,7 +18,6 @@ from __future__ import annotations
 import base64
 import json
 import math
-import os
 import shutil
 import tempfile
 import time as _time
@@ -27,7 +26,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from uvms.sim.result import atomic_write_text
+from uvms.output import atomic_write_text, replace_directory
 
 PAPER_LAMBDA = 3.14
 """Sliding-surface bandwidth lambda [1/s] (appendix)."""
@@ -188,7 +187,7 @@ def claims(metrics: dict, chatter: dict) -> list[dict[str, str]]:
         {"claim": "The commanded forces are smooth, free of chattering, thanks to the boundary layer (Fig. 8)",
          "measured": f"sign changes of the command's slope with Phi = {PAPER_PHI}: "
                      + ", ".join(f"{k} {v}" for k, v in chatter["paper"].items())
-                     + f"; with Phi/100: " + ", ".join(f"{k} {v}" for k, v in chatter["small"].items()),
+                     + "; with Phi/100: " + ", ".join(f"{k} {v}" for k, v in chatter["small"].items()),
          "verdict": "holds" if sum(chatter["small"].values()) > 5 * max(sum(chatter["paper"].values()), 1)
          else "does not hold"},
     ]
@@ -259,7 +258,7 @@ def paper(out_dir="reproduce-paper", *, actuators: str = "ideal", compare: bool 
     out = Path(tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent))
     try:
         metrics = _reproduce_into(out, actuators, compare, progress, wall0)
-        _publish(out, final)
+        replace_directory(out, final)
     except BaseException:
         shutil.rmtree(out, ignore_errors=True)
         raise
@@ -278,24 +277,6 @@ def _check_output(out: Path) -> Path:
             raise UvmsInputError("folder is not empty and holds no earlier reproduction (metrics.json); "
                                  "choose another -o", str(out))
     return out
-
-
-def _publish(tmp: Path, final: Path) -> None:
-    """Put the finished folder in place in one rename (an older reproduction is swapped out first)."""
-    os.chmod(tmp, 0o777 & ~_umask())
-    if final.exists():
-        old = final.with_name(f".{final.name}.old.{os.getpid()}")
-        final.rename(old)
-        tmp.rename(final)
-        shutil.rmtree(old, ignore_errors=True)
-    else:
-        tmp.rename(final)
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def _reproduce_into(out: Path, actuators: str, compare: bool, progress, wall0: float) -> dict:

@@ -9,7 +9,6 @@ half-written ``DIR``. A diverging run still saves what it computed (``"complete"
 from __future__ import annotations
 
 import argparse
-import os
 import shutil
 import sys
 import tempfile
@@ -36,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
     """Validate, simulate, save atomically, summarise; 0 on success, 3 when the simulation diverged."""
     from rich.console import Console
 
-    from uvms.sim.result import atomic_write_text
+    from uvms.output import atomic_write_text, replace_directory
     from uvms.sim.scenario import load_scenario, run_scenario
 
     scenario = load_scenario(args.scenario)
@@ -54,8 +53,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         result.save(tmp)
         atomic_write_text(tmp / "scenario.yaml", scenario.text)
-        _usual_permissions(tmp)
-        _move_into_place(tmp, out)
+        replace_directory(tmp, out)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 
@@ -82,26 +80,6 @@ def _check_output(out: Path) -> None:
     if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
         raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
                              "--output")
-
-
-def _usual_permissions(directory: Path) -> None:
-    """Give the directory and its files the permissions the umask allows (temporary files start private)."""
-    umask = os.umask(0)
-    os.umask(umask)
-    directory.chmod(0o777 & ~umask)
-    for path in directory.iterdir():
-        path.chmod(0o666 & ~umask)
-
-
-def _move_into_place(tmp: Path, out: Path) -> None:
-    """Rename the finished ``tmp`` directory to ``out``, replacing a previous run there."""
-    if out.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
-        os.replace(out, old / "run")
-        os.replace(tmp, out)
-        shutil.rmtree(old, ignore_errors=True)
-    else:
-        os.replace(tmp, out)
 
 
 class _Progress:

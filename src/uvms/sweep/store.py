@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from uvms.errors import UvmsInputError
-from uvms.sim.result import atomic_write_text
+from uvms.output import atomic_write_text
 
 RUNS_CSV = "runs.csv"
 SWEEP_JSON = "sweep.json"
@@ -179,9 +179,6 @@ class RunStore:
 def _write(path: Path, text: str) -> None:
     """Write atomically, with the permissions the umask allows (the temporary file starts private)."""
     atomic_write_text(path, text)
-    umask = os.umask(0)
-    os.umask(umask)
-    path.chmod(0o666 & ~umask)
 
 
 def _identity(sweep, header: list[str]) -> dict[str, Any]:
