@@ -88,9 +88,3 @@ def euler_rate_matrix(euler: np.ndarray) -> np.ndarray:
     sp, cp, ct, tt = np.sin(phi), np.cos(phi), np.cos(theta), np.tan(theta)
     return np.array([[1.0, sp * tt, cp * tt], [0.0, cp, -sp], [0.0, sp / ct, cp / ct]])
 
-
-def wrap_angle(angle):
-    """Wrap an angle (or array) to (-pi, pi]."""
-    if isinstance(angle, float):
-        return -((-angle + math.pi) % (2 * math.pi) - math.pi)
-    return -((-np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi)

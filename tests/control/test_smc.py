@@ -12,13 +12,18 @@ import pytest
 import uvms
 from uvms.control.compare import axis_series, sign_changes
 from uvms.control.registry import make_controller
-from uvms.control.smc import axis_kinematics, sat, slotine_law
+from uvms.control.smc import axis_kinematics, slotine_law
 from uvms.sim.inputs import paper_torques
 from uvms.sim.run import simulate
 from uvms.state import State
 
 PHI, LAMBDA, ETA = 0.02, 3.14, 0.5
 PRECISION = PHI / LAMBDA  # 6.4 mm
+
+
+def sat(x: float) -> float:
+    """The saturation function of Eq. 29: ``x`` clipped to [-1, 1]."""
+    return min(1.0, max(-1.0, x))
 
 
 @pytest.fixture(scope="module")
@@ -92,6 +97,55 @@ def test_error_rates_and_accelerations_are_time_derivatives(model):
         for surface in ("body_velocity", "error_rate"):
             numeric = (after.rates(surface) - before.rates(surface)) / (2 * h)
             np.testing.assert_allclose(here.accelerations(nu_dot, surface), numeric, rtol=1e-5, atol=1e-7)
+
+
+def test_axis_errors_by_hand_and_yaw_wraps(model):
+    """``e = R^T (p - p_d)`` with ``R`` from the Euler angles (NumPy, not the kernel's quaternion path), the
+    body velocities as given, and the yaw error wrapped to (-pi, pi] across the +/-pi seam."""
+    from uvms.rotations import rotation_from_euler
+
+    euler = np.array([0.2, -0.3, 3.0])
+    st = State.from_euler(model, position=[1.0, -2.0, 0.5], euler=euler, nu=[0.1, 0.2, 0.3, 0.4, 0.5, 0.6])
+    p_d = np.array([0.5, 0.5, 0.0])
+    kin = axis_kinematics(st, p_d, -3.0)
+    e = rotation_from_euler(euler).T @ (st.position - p_d)
+    np.testing.assert_allclose(kin.error[:2], e[:2], atol=1e-14)
+    assert kin.error[2] == pytest.approx(6.0 - 2 * math.pi, abs=1e-12)       # 3 - (-3) wrapped
+    np.testing.assert_allclose(kin.velocity, [0.4, 0.5, 0.3])
+    np.testing.assert_allclose(kin.euler, euler, atol=1e-12)
+    assert axis_kinematics(st, p_d, 3.0 - math.pi).error[2] == pytest.approx(math.pi, abs=1e-12)
+
+
+@pytest.mark.parametrize("surface", ["body_velocity", "error_rate"])
+def test_controller_update_is_the_law_on_each_axis(model, surface):
+    """One update of ``smc-ab`` at a tilted, moving state equals Slotine's law per axis assembled by hand:
+    ``f_hat`` from the own model's ``nu_dot``, the surge/sway/yaw commands in X, Y, N, and on the error-rate
+    surface the yaw moment divided by ``cos(phi) / cos(theta)``."""
+    from uvms.control.base import Measurement
+
+    controller = make_controller("smc-ab", model, parameters={"surface": surface, "desired_position": [0.1, -0.1, 0],
+                                                              "desired_yaw": 0.4})
+    st = State.from_euler(model, position=[0.2, 0.1, 0.3], euler=[0.3, -0.2, 0.9], nu=[0.1, -0.2, 0.3, 0.2, -0.1, 0],
+                          q=[0.4, -0.2, 0.3], qd=[0.5, 0.1, -0.2])
+    tau = np.array([1.0, -0.5, 0.2])
+    out = controller.update(Measurement(time=0.0, state=st, joint_torques=tau, nu_dot=np.zeros(6)))
+    own = controller.model                                      # the controller's 0.4x model
+    nu_dot_hat = uvms.forward_dynamics(own, st, joint_torques=tau).nu_dot
+    kin = axis_kinematics(st, [0.1, -0.1, 0], 0.4)
+    f_hat = kin.accelerations(nu_dot_hat, surface)
+    rates = kin.rates(surface)
+    phi, theta = kin.euler[0], kin.euler[1]
+    gain = [1.0, 1.0, 1.0 if surface == "body_velocity" else math.cos(phi) / math.cos(theta)]
+    b = [(36.0, 44.44), (36.0, 44.44), (1.287, 1.5889)]
+    expected = np.zeros(6)
+    for j, index in enumerate((3, 4, 2)):
+        law = slotine_law(kin.error[j], rates[j], f_hat[j], bandwidth=LAMBDA, eta=ETA, boundary_layer=PHI,
+                          uncertainty=0.5, b_hat=math.sqrt(b[j][0] * b[j][1]), beta=math.sqrt(b[j][1] / b[j][0]),
+                          error_rate=kin.error_rate[j])
+        expected[index] = law.command / gain[j]
+        assert out.signals[f"s_{('surge', 'sway', 'yaw')[j]}"] == pytest.approx(law.s, rel=1e-12)
+    np.testing.assert_allclose(out.wrench, expected, rtol=1e-12, atol=1e-12)
+    assert gain[2] != pytest.approx(1.0, abs=1e-3) or surface == "body_velocity"
 
 
 # ----------------------------------------------------------------------------- the paper scenario, 10 s

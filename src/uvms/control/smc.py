@@ -54,6 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from uvms.control import sliding_kernels as kernels
 from uvms.control.base import ControlOutput, Measurement
 from uvms.control.registry import (
     at_least_one,
@@ -67,7 +68,6 @@ from uvms.control.registry import (
     vector,
 )
 from uvms.errors import UvmsInputError
-from uvms.rotations import wrap_angle
 
 AXES: tuple[str, ...] = ("surge", "sway", "yaw")
 """The controlled axes, in this order everywhere (errors, gains, logged signals)."""
@@ -81,11 +81,6 @@ PAPER_B_TRANSLATION = (36.0, 44.44)
 """Paper's bounds of the surge and sway effective mass [kg]."""
 PAPER_B_YAW = (1.287, 1.5889)
 """Paper's bounds of the yaw effective inertia [kg m^2]."""
-
-
-def sat(x: float) -> float:
-    """The saturation function: ``x`` clipped to [-1, 1]."""
-    return min(1.0, max(-1.0, x))
 
 
 # ---------------------------------------------------------------------------------------------- the law
@@ -105,7 +100,8 @@ class AxisCommand:
 def slotine_law(error: float, rate: float, f_hat: float, *, bandwidth: float, eta: float, boundary_layer: float,
                 uncertainty: float, b_hat: float, beta: float, rate_desired: float = 0.0,
                 acc_desired: float = 0.0, error_rate: float | None = None) -> AxisCommand:
-    """Slotine's law for one axis whose velocity variable obeys ``rate_dot = f + command / b`` (Eqs. 26-29).
+    """Slotine's law for one axis whose velocity variable obeys ``rate_dot = f + command / b`` (Eqs. 26-29;
+    the compiled :func:`uvms.control.sliding_kernels.slotine`).
 
     Args:
         error: ``e = x - x_d``.  rate: the surface's velocity variable ``vel``.
@@ -116,11 +112,11 @@ def slotine_law(error: float, rate: float, f_hat: float, *, bandwidth: float, et
         rate_desired, acc_desired: desired ``vel`` and its derivative (0 for station keeping).
         error_rate: the exact ``de/dt`` when it differs from ``rate - rate_desired`` (module docstring).
     """
-    rate_error = rate - rate_desired
-    s = rate_error + bandwidth * error
-    u_hat = -f_hat + acc_desired - bandwidth * (rate_error if error_rate is None else error_rate)
-    k = beta * (uncertainty + eta) + (beta - 1.0) * abs(u_hat)
-    return AxisCommand(s=s, k=k, u_hat=u_hat, command=b_hat * (u_hat - k * sat(s / boundary_layer)))
+    e_dot = rate - rate_desired if error_rate is None else error_rate
+    s, k, u_hat, command = kernels.slotine(float(error), float(rate), float(f_hat), float(bandwidth), float(eta),
+                                           float(boundary_layer), float(uncertainty), float(b_hat), float(beta),
+                                           float(rate_desired), float(acc_desired), float(e_dot))
+    return AxisCommand(s=s, k=k, u_hat=u_hat, command=command)
 
 
 # --------------------------------------------------------------------------------------- body-frame errors
@@ -128,19 +124,31 @@ def slotine_law(error: float, rate: float, f_hat: float, *, bandwidth: float, et
 
 @dataclass(frozen=True)
 class AxisKinematics:
-    """The surge, sway and yaw errors, their exact rates, the body velocities, and their accelerations.
+    """The surge, sway and yaw errors, their exact rates, the body velocities (rows of the compiled
+    :func:`uvms.control.sliding_kernels.axis_kinematics_into`).
 
     ``error`` (3,): ``e_x, e_y`` [m], ``e_psi`` [rad]; ``error_rate`` (3,): their time derivatives
     ``(e_dot_x, e_dot_y, psi_dot)``; ``velocity`` (3,): the body velocities ``(u, v, r)`` [m/s, rad/s].
     """
 
-    error: np.ndarray
-    error_rate: np.ndarray
-    velocity: np.ndarray
-    error3: np.ndarray          # full body-frame position error e (3,) [m]
-    rate3: np.ndarray           # e_dot (3,) [m/s]
-    omega: np.ndarray           # (3,) body angular velocity [rad/s]
-    euler: np.ndarray           # (phi, theta, psi) [rad]
+    table: np.ndarray           # (7, 3), rows as in uvms.control.sliding_kernels
+
+    @property
+    def error(self) -> np.ndarray:
+        return self.table[kernels.ERROR]
+
+    @property
+    def error_rate(self) -> np.ndarray:
+        return self.table[kernels.ERROR_RATE]
+
+    @property
+    def velocity(self) -> np.ndarray:
+        return self.table[kernels.VELOCITY]
+
+    @property
+    def euler(self) -> np.ndarray:
+        """``(phi, theta, psi)`` [rad]."""
+        return self.table[kernels.EULER]
 
     def rates(self, surface: str) -> np.ndarray:
         """The ``vel`` of ``s = vel + lambda e``: ``velocity`` (``"body_velocity"``) or ``error_rate``."""
@@ -149,59 +157,18 @@ class AxisKinematics:
     def accelerations(self, nu_dot: np.ndarray, surface: str) -> np.ndarray:
         """Time derivatives of :meth:`rates` for a body acceleration ``nu_dot = [omega_dot; v_dot]`` (6,):
         ``(u_dot, v_dot, r_dot)``, or ``(e_ddot_x, e_ddot_y, psi_ddot)`` (module docstring)."""
-        if surface == "body_velocity":
-            return np.array([nu_dot[3], nu_dot[4], nu_dot[2]])
-        omega_dot = nu_dot[:3]
-        e_ddot = nu_dot[3:] - _cross(omega_dot, self.error3) - _cross(self.omega, self.rate3)
-        phi, theta, _ = self.euler
-        p, q, r = self.omega
-        sp, cp, ct, tt = math.sin(phi), math.cos(phi), math.cos(theta), math.tan(theta)
-        psi_dot = self.error_rate[2]
-        theta_dot = cp * q - sp * r
-        phi_dot = p + psi_dot * math.sin(theta)
-        psi_ddot = ((sp * omega_dot[1] + cp * omega_dot[2]) / ct + phi_dot * theta_dot / ct
-                    + theta_dot * tt * psi_dot)
-        return np.array([e_ddot[0], e_ddot[1], psi_ddot])
-
-    def input_gain(self, surface: str) -> np.ndarray:
-        """How each axis' acceleration responds to its command per unit of ``command / b``: 1, except
-        ``cos(phi) / cos(theta)`` for ``psi_ddot`` on the ``"error_rate"`` surface."""
-        if surface == "body_velocity":
-            return np.ones(3)
-        phi, theta, _ = self.euler
-        return np.array([1.0, 1.0, math.cos(phi) / math.cos(theta)])
-
-
-def _cross(a, b) -> np.ndarray:
-    """3-vector cross product without numpy's general-axis machinery (this runs every control update)."""
-    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+        out = np.zeros(3)
+        kernels.axis_accelerations(self.table, np.asarray(nu_dot, dtype=float), surface == "body_velocity", out)
+        return out
 
 
 def axis_kinematics(state, position_desired: np.ndarray, yaw_desired: float) -> AxisKinematics:
-    """Errors, rates and velocities of the surge, sway and yaw axes for a constant desired pose.
-
-    Written with scalar math (it runs at every control update)."""
-    R = state.rotation
-    p0, p1, p2, q0, q1, q2, r0, r1, r2 = R.ravel().tolist()
-    d0, d1, d2 = (state.position - position_desired).tolist()
-    w0, w1, w2, u, v, w = state.nu.tolist()
-    e0 = p0 * d0 + q0 * d1 + r0 * d2                  # e = R^T (p - p_d)
-    e1 = p1 * d0 + q1 * d1 + r1 * d2
-    e2 = p2 * d0 + q2 * d1 + r2 * d2
-    ed0 = u - (w1 * e2 - w2 * e1)                      # e_dot = v - omega x e
-    ed1 = v - (w2 * e0 - w0 * e2)
-    ed2 = w - (w0 * e1 - w1 * e0)
-    theta = -math.asin(min(max(r0, -1.0), 1.0))        # ZYX Euler angles of R (r0 = R[2, 0])
-    phi = math.atan2(r1, r2)
-    psi = math.atan2(q0, p0)
-    psi_dot = (math.sin(phi) * w1 + math.cos(phi) * w2) / math.cos(theta)
-    return AxisKinematics(
-        error=np.array([e0, e1, wrap_angle(psi - yaw_desired)]),
-        error_rate=np.array([ed0, ed1, psi_dot]),
-        velocity=np.array([u, v, w2]),
-        error3=np.array([e0, e1, e2]), rate3=np.array([ed0, ed1, ed2]), omega=np.array([w0, w1, w2]),
-        euler=np.array([phi, theta, psi]),
-    )
+    """Errors, rates and velocities of the surge, sway and yaw axes for a constant desired pose."""
+    R, table = kernels.kinematics_buffers()
+    kernels.axis_kinematics_into(state.quaternion, state.position, state.nu,
+                                 np.asarray(position_desired, dtype=float), float(yaw_desired), R, table)
+    table.flags.writeable = False
+    return AxisKinematics(table)
 
 
 # ------------------------------------------------------------------------------------------ parameters
@@ -268,25 +235,30 @@ class SlidingModeController:
         self.plant = model
         self._position_desired: np.ndarray | None = None
         self._yaw_desired = 0.0
+        par = self.parameters
+        # per-update buffers of the compiled law (sliding_kernels), allocated once
+        self._R, self._kin = kernels.kinematics_buffers()
+        self._f_hat = np.zeros(3)
+        self._wrench = np.zeros(6)
+        self._signals = np.zeros((3, kernels.N_SIGNAL_COLUMNS))
+        self._uncertainty = np.array(par.uncertainty, dtype=float)
+        limits = np.array(par.b_limits())
+        self._b_fixed = np.sqrt(limits[:, 0] * limits[:, 1])         # b_hat = sqrt(b_min b_max), Eq. 28
+        self._beta_fixed = np.sqrt(limits[:, 1] / limits[:, 0])      # beta = sqrt(b_max / b_min), Eq. 29
+        self._beta_model = np.full(3, par.b_margin)
+        columns = kernels.N_SIGNAL_COLUMNS if par.b_source == "model" else kernels.B_HAT
+        self._signal_columns = columns
+        self._signal_names = [name for names in SIGNAL_NAMES for name in names[:columns]]
 
     def reset(self) -> None:
         """Forget the captured desired pose (taken again at the next update unless given)."""
         self._position_desired = None
 
-    def predict(self, measurement: Measurement) -> tuple[np.ndarray, np.ndarray]:
+    def predict(self, measurement: Measurement, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The controller model's ``nu_dot`` (6,) at ``f_0 = 0`` and the 6x6 inertia that maps a body
-        wrench to ``nu_dot`` in that model (for ``b_source = "model"``)."""
+        wrench to ``nu_dot`` in that model (for ``b_source = "model"``); ``rotation`` is the measured
+        body-to-world ``R``."""
         raise NotImplementedError
-
-    @property
-    def _fixed_b(self) -> tuple[np.ndarray, np.ndarray]:
-        """``b_hat = sqrt(b_min b_max)`` and ``beta = sqrt(b_max / b_min)`` per axis from the fixed bounds (Eq. 28-29)."""
-        cached = self.__dict__.get("_fixed_b_cache")
-        if cached is None:
-            limits = np.array(self.parameters.b_limits())
-            cached = (np.sqrt(limits[:, 0] * limits[:, 1]), np.sqrt(limits[:, 1] / limits[:, 0]))
-            self.__dict__["_fixed_b_cache"] = cached
-        return cached
 
     def _desired(self, state) -> tuple[np.ndarray, float]:
         if self._position_desired is None:
@@ -298,33 +270,17 @@ class SlidingModeController:
 
     def update(self, measurement: Measurement) -> ControlOutput:
         par = self.parameters
-        position_d, yaw_d = self._desired(measurement.state)
-        kin = axis_kinematics(measurement.state, position_d, yaw_d)
-        nu_dot_hat, inertia = self.predict(measurement)
-        rates = kin.rates(par.surface)
-        f_hat = kin.accelerations(nu_dot_hat, par.surface)
-        gain = kin.input_gain(par.surface)
+        st = measurement.state
+        position_d, yaw_d = self._desired(st)
+        kernels.axis_kinematics_into(st.quaternion, st.position, st.nu, position_d, yaw_d, self._R, self._kin)
+        nu_dot_hat, inertia = self.predict(measurement, self._R)
         if par.b_source == "model":
-            b_hat = effective_inertia(inertia)
-            beta = np.full(3, par.b_margin)
+            b_hat, beta = effective_inertia(inertia), self._beta_model
         else:
-            b_hat, beta = self._fixed_b
-        wrench = np.zeros(6)
-        signals: dict[str, float] = {"Phi": par.boundary_layer}
-        error, rate, fh, error_rate = kin.error.tolist(), rates.tolist(), f_hat.tolist(), kin.error_rate.tolist()
-        bh, bt = b_hat.tolist(), beta.tolist()
-        for j, names in enumerate(SIGNAL_NAMES):
-            cmd = slotine_law(error[j], rate[j], fh[j], bandwidth=par.bandwidth, eta=par.eta,
-                              boundary_layer=par.boundary_layer, uncertainty=par.uncertainty[j], b_hat=bh[j],
-                              beta=bt[j], error_rate=error_rate[j])
-            force = cmd.command / float(gain[j])
-            wrench[WRENCH_INDEX[j]] = force
-            s_name, k_name, f_name, c_name, e_name, b_name = names
-            signals[s_name] = cmd.s
-            signals[k_name] = cmd.k
-            signals[f_name] = fh[j]
-            signals[c_name] = force
-            signals[e_name] = error[j]
-            if par.b_source == "model":
-                signals[b_name] = bh[j]
-        return ControlOutput(wrench=wrench, signals=signals)
+            b_hat, beta = self._b_fixed, self._beta_fixed
+        kernels.sliding_mode_wrench(self._kin, nu_dot_hat, par.surface == "body_velocity", par.bandwidth, par.eta,
+                                    par.boundary_layer, self._uncertainty, b_hat, beta, self._f_hat, self._wrench,
+                                    self._signals)
+        signals = dict(zip(self._signal_names, self._signals[:, :self._signal_columns].ravel().tolist()))
+        signals["Phi"] = par.boundary_layer
+        return ControlOutput(wrench=self._wrench.copy(), signals=signals)

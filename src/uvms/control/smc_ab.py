@@ -40,10 +40,10 @@ class ArticulatedBodySMC(SlidingModeController):
         self._qdd = np.zeros(n)
         self._aba = None
 
-    def predict(self, measurement: Measurement) -> tuple[np.ndarray, np.ndarray]:
+    def predict(self, measurement: Measurement, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``nu_dot`` at ``f_0 = 0`` by the articulated-body algorithm, and the articulated inertia ``I_0^*``."""
         st = measurement.state
-        args = (self.model.kernel, self._ws, st.rotation, np.array(st.nu), np.array(st.q), np.array(st.qd),
+        args = (self.model.kernel, self._ws, rotation, np.array(st.nu), np.array(st.q), np.array(st.qd),
                 np.array(measurement.joint_torques, dtype=float), self._zero6, self._zero6, self._current,
                 self._fluid_acceleration, False, self._nu_dot, self._qdd)
         if self._aba is None:

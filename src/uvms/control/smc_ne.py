@@ -99,12 +99,12 @@ class NewtonEulerSMC(SlidingModeController):
              self._zero6, vc, af, self._f_vehicle, self._empty)
         return self._f_vehicle - self._f_system
 
-    def predict(self, measurement: Measurement) -> tuple[np.ndarray, np.ndarray]:
+    def predict(self, measurement: Measurement, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The vehicle-only ``nu_dot`` at ``f_0 = 0`` with the arm's reaction at the measured acceleration."""
         st = measurement.state
         a0 = self.imu.measure(measurement)
         self.last_acceleration = a0
-        rotation, nu = st.rotation, np.array(st.nu)
+        nu = np.array(st.nu)
         w_arm = self.arm_reaction(rotation, nu, np.array(st.q), np.array(st.qd),
                                   np.array(measurement.joint_torques, dtype=float), a0)
         return self.vehicle.nu_dot(rotation, nu, w_arm), self.vehicle.inertia

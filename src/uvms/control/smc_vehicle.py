@@ -52,7 +52,6 @@ class VehicleOnlySMC(SlidingModeController):
         super().__init__(model, parameters, period=period)
         self.vehicle = VehicleModel(model, self.parameters.hydro_scale)
 
-    def predict(self, measurement: Measurement) -> tuple[np.ndarray, np.ndarray]:
+    def predict(self, measurement: Measurement, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The vehicle-only ``nu_dot`` at ``f_0 = 0`` and the vehicle's inertia ``I^H_0``."""
-        st = measurement.state
-        return self.vehicle.nu_dot(st.rotation, np.array(st.nu)), self.vehicle.inertia
+        return self.vehicle.nu_dot(rotation, np.array(measurement.state.nu)), self.vehicle.inertia
