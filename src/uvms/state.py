@@ -71,12 +71,7 @@ class State:
         no copies. For the simulation loop only; user code should use the constructor or :meth:`from_euler`.
         """
         obj = object.__new__(cls)
-        object.__setattr__(obj, "position", position)
-        object.__setattr__(obj, "quaternion", quaternion)
-        object.__setattr__(obj, "nu", nu)
-        object.__setattr__(obj, "q", q)
-        object.__setattr__(obj, "qd", qd)
-        object.__setattr__(obj, "actuator", actuator)
+        obj.__dict__.update(position=position, quaternion=quaternion, nu=nu, q=q, qd=qd, actuator=actuator)
         return obj
 
     @classmethod

@@ -149,6 +149,27 @@ def test_controller_runs_at_its_own_period_beside_a_faster_arm(paper):
     np.testing.assert_allclose(r.signals["called_at"], np.minimum(expected, 0.09), atol=1e-12)
 
 
+class _Sometimes(_Counter):
+    """Logs ``count`` always and ``odd`` only on odd updates, in a different order then."""
+
+    def update(self, measurement):
+        from uvms.control.base import ControlOutput
+
+        k = len(self.calls)
+        self.calls.append(measurement.time)
+        signals = {"odd": -float(k), "count": float(k)} if k % 2 else {"count": float(k)}
+        return ControlOutput(wrench=np.zeros(6), signals=signals)
+
+
+def test_a_signal_logged_only_on_some_updates_is_nan_elsewhere(paper):
+    r = simulate(paper, duration=0.05, step=1e-3, controller=_Sometimes(0.01))
+    update = np.minimum(np.floor(r.time / 0.01 + 1e-9), 4)           # the update each row holds
+    np.testing.assert_array_equal(r.signals["count"], update)
+    odd = update % 2 == 1
+    np.testing.assert_array_equal(r.signals["odd"][odd], -update[odd])
+    assert np.all(np.isnan(r.signals["odd"][~odd])) and odd.any() and (~odd).any()
+
+
 def test_a_schedule_of_the_wrong_width_is_refused(paper):
     with pytest.raises(ValueError, match="3 joints"):
         simulate(paper, duration=0.1, joint_torques=TorqueSchedule.constant([1.0]))

@@ -45,12 +45,14 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
             U[k] = IA[k, 2]
         ws.d[i] = U[2]
         ws.u[i] = tau[i - 1] - ws.pA[i, 2]
+        inv_d = 1.0 / ws.d[i]
         for r in range(6):
+            Ur = U[r] * inv_d
             for k in range(6):
-                Ia[r, k] = IA[r, k] - U[r] * U[k] / ws.d[i]
+                Ia[r, k] = IA[r, k] - Ur * U[k]
         mat6_vec(Ia, ws.c[i], pa)
         for k in range(6):
-            pa[k] += ws.pA[i, k] + U[k] * ws.u[i] / ws.d[i]
+            pa[k] += ws.pA[i, k] + U[k] * ws.u[i] * inv_d
         congruence_add_plucker(ws.E[i], km.tree_r[i], Ia, ws.IA[p], tmp)
         mat6T_vec_add(ws.Xup[i], pa, ws.pA[p])
 

@@ -21,6 +21,7 @@ from numba import njit
 from uvms.dynamics.aba import aba
 from uvms.kinematics import quaternion_to_rotation
 from uvms.sim.actuation import actuator_rates
+from uvms.state import State
 
 P, QUAT, NU, JOINTS = 0, 3, 7, 13
 
@@ -41,8 +42,6 @@ def pack(state) -> np.ndarray:
 
 def unpack(x: np.ndarray, n_joints: int):
     """The :class:`~uvms.state.State` of ``x`` (one copy of ``x``; the fields are read-only views of it)."""
-    from uvms.state import State
-
     n = n_joints
     c = x.copy()
     c.flags.writeable = False

@@ -290,19 +290,29 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     update_times = np.array([u[0] for u in updates])
     which = np.clip(np.searchsorted(update_times, out_t + 0.5 * h, side="right") - 1, 0, len(updates) - 1)
     out_tau = np.array([updates[k][1] for k in which]).reshape(n_out, n)
-    names = sorted({k for _, _, sg in updates for k in sg})
-    column = {k: i for i, k in enumerate(names)}
-    held = np.full((len(updates), len(names)), np.nan)
-    for u, (_, _, sg) in enumerate(updates):
-        for k, v in sg.items():
-            held[u, column[k]] = v
-    sig = {k: held[which, column[k]] for k in names}
+    sig = _held_signals([u[2] for u in updates], which)
     ee = np.zeros((n_out, 3))
     end_effector_path(km, np.ascontiguousarray(out_x), ee)
     meta = {"integrator": integrator, "step_s": h, "duration_s": duration, "fixed_base": bool(fixed_base),
             "wall_time_s": _time.perf_counter() - wall0, "model": model.name, **_versions(), **(metadata or {})}
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
                   signals=sig, complete=complete, message=message, metadata=meta)
+
+
+def _held_signals(per_update: list[dict[str, float]], which: np.ndarray) -> dict[str, np.ndarray]:
+    """One column per signal name, row ``r`` holding update ``which[r]``'s value (NaN where that update did
+    not log the name). Updates logging the same names in the same order (the usual case) fill their rows in
+    one assignment."""
+    groups: dict[tuple[str, ...], list[int]] = {}
+    for u, sg in enumerate(per_update):
+        groups.setdefault(tuple(sg), []).append(u)
+    names = sorted({k for keys in groups for k in keys})
+    column = {k: i for i, k in enumerate(names)}
+    held = np.full((len(per_update), len(names)), np.nan)
+    for keys, rows in groups.items():
+        if keys:
+            held[np.ix_(rows, [column[k] for k in keys])] = [list(per_update[u].values()) for u in rows]
+    return {k: held[which, column[k]] for k in names}
 
 
 def _versions() -> dict[str, str]:
