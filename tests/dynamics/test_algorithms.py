@@ -88,3 +88,20 @@ def test_fixed_base_refuses_a_moving_vehicle(rng):
     state = random_state(rng, model)
     with pytest.raises(ValueError, match="fixed_base"):
         uvms.forward_dynamics(model, state, fixed_base=True)
+
+
+def test_every_model_gives_the_kernels_one_argument_type(rng):
+    """``uvms.forward_dynamics`` and friends resolve each kernel's compiled specialisation once
+    (``dynamics/api.py``): that is only right if every model's kernel arrays have the same numba type."""
+    from numba import typeof
+
+    paper = uvms.load_model("paper")
+    models = [paper, paper.vehicle_only(), paper.with_hydrodynamics_scaled(added_mass=0.4, drag=0.4),
+              random_model(rng, 7, hydro=True), random_model(rng, 2, hydro=False)]
+    assert len({typeof(m.kernel) for m in models}) == 1
+    # interleaved calls on models of different sizes keep their own workspaces and results
+    states = [random_state(rng, m) for m in models]
+    first = [uvms.forward_dynamics(m, s).generalized for m, s in zip(models, states)]
+    again = [uvms.forward_dynamics(m, s).generalized for m, s in zip(models[::-1], states[::-1])][::-1]
+    for a, b in zip(first, again):
+        np.testing.assert_array_equal(a, b)

@@ -8,14 +8,37 @@ Current and fluid acceleration default to the model's environment and may be ove
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import numpy as np
 
 from uvms.dynamics.aba import aba
 from uvms.dynamics.crba import crba
+from uvms.dynamics.fastcall import specialised
 from uvms.dynamics.kernel_model import make_workspace
 from uvms.dynamics.rnea import rnea
+
+_local = threading.local()
+"""Per-thread workspaces by number of bodies: a call reuses one instead of allocating ~16 arrays."""
+_entries: dict = {}
+"""Compiled entry point of each kernel: every argument list built here has the same types (kernel arrays from
+``kernel_model_from``, fresh float64 arrays, a bool), so the specialisation is resolved once."""
+
+
+def _workspace(n_bodies: int):
+    cache = _local.__dict__.setdefault("workspaces", {})
+    ws = cache.get(n_bodies)
+    if ws is None:
+        ws = cache[n_bodies] = make_workspace(n_bodies)
+    return ws
+
+
+def _call(kernel, *args) -> None:
+    entry = _entries.get(kernel)
+    if entry is None:
+        entry = _entries[kernel] = specialised(kernel, *args)
+    entry(*args)
 
 
 def _vec(value, size: int, name: str) -> np.ndarray:
@@ -85,7 +108,7 @@ def forward_dynamics(model, state, *, joint_torques=None, body_wrench=None, ee_w
     env = environment(model, current, fluid_acceleration)
     nu_dot = np.zeros(6)
     qdd = np.zeros(n)
-    aba(model.kernel, make_workspace(model.n_bodies), R0, nu, q, qd, _vec(joint_torques, n, "joint_torques"),
+    _call(aba, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, _vec(joint_torques, n, "joint_torques"),
         _vec(body_wrench, 6, "body_wrench"), _vec(ee_wrench, 6, "ee_wrench"), env.current,
         env.fluid_acceleration, bool(fixed_base), nu_dot, qdd)
     return Accelerations(nu_dot=nu_dot, qdd=qdd)
@@ -99,7 +122,7 @@ def inverse_dynamics(model, state, *, nu_dot, qdd, ee_wrench=None, current=None,
     env = environment(model, current, fluid_acceleration)
     f0 = np.zeros(6)
     tau = np.zeros(n)
-    rnea(model.kernel, make_workspace(model.n_bodies), R0, nu, q, qd, _vec(nu_dot, 6, "nu_dot"),
+    _call(rnea, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, _vec(nu_dot, 6, "nu_dot"),
          _vec(qdd, n, "qdd"), _vec(ee_wrench, 6, "ee_wrench"), env.current, env.fluid_acceleration, f0, tau)
     return f0, tau
 
@@ -107,7 +130,7 @@ def inverse_dynamics(model, state, *, nu_dot, qdd, ee_wrench=None, current=None,
 def mass_matrix(model, state) -> np.ndarray:
     """Joint-space inertia matrix ``M`` (6+n, 6+n) of ``[nu; qd]``, added mass included (CRBA)."""
     M = np.zeros((model.n_dof, model.n_dof))
-    crba(model.kernel, make_workspace(model.n_bodies), np.array(state.q, dtype=float), M)
+    _call(crba, model.kernel, _workspace(model.n_bodies), np.array(state.q, dtype=float), M)
     return M
 
 
