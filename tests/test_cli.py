@@ -116,6 +116,29 @@ def test_simulation_diverged_exits_3(monkeypatch, capsys):
                                        "joint velocity qd[2] = 3e12 rad/s; reduce the time step\n")
 
 
+@pytest.mark.parametrize("argv, option", [
+    (["run", "paper_case2_released", "-o", "{blocker}/run"], "--output"),
+    (["compare", "--json", "{blocker}/table.json"], "--json"),
+    (["reproduce", "paper", "-o", "{blocker}/paper"], "--output"),
+    (["sweep", "paper_model_error", "-o", "{blocker}/sweep"], "--output"),
+])
+def test_an_unwritable_output_is_refused_before_any_simulation(tmp_path, monkeypatch, capsys, argv, option):
+    """An output path under a file is one line and exit 2 at once: nothing is simulated first."""
+    import uvms.sim.run
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("simulated before checking the output path")
+
+    monkeypatch.setattr(uvms.sim.run, "simulate", no_simulation)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    assert main([a.format(blocker=blocker) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("uvms: error: ") and "Traceback" not in err
+    assert f"{option}: cannot be created: {blocker} is a file" in err
+    assert blocker.read_text() == "not a folder"
+
+
 @pytest.mark.parametrize("module_name", COMMANDS)
 def test_command_modules_follow_the_protocol(module_name):
     module = importlib.import_module(f"uvms.commands.{module_name}")

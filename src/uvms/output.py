@@ -50,3 +50,19 @@ def replace_directory(tmp: Path, final: Path) -> None:
         shutil.rmtree(old, ignore_errors=True)
     else:
         os.replace(tmp, final)
+
+
+def check_destination(path, option: str) -> None:
+    """Refuse, before any long computation, an output ``path`` that could never be written: one under a file,
+    or in a folder the user may not write to. Raises a one-line :class:`~uvms.errors.UvmsInputError`
+    naming ``path`` and the command-line ``option``."""
+    from uvms.errors import UvmsInputError
+
+    path = Path(path).absolute()
+    ancestor = path.parent
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise UvmsInputError(f"cannot be created: {ancestor} is a file, not a folder", str(path), option)
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        raise UvmsInputError(f"cannot be created: no permission to write in {ancestor}", str(path), option)

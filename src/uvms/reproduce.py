@@ -268,6 +268,7 @@ def paper(out_dir="reproduce-paper", *, actuators: str = "ideal", compare: bool 
 def _check_output(out: Path) -> Path:
     """The output folder may be new, empty, or a previous reproduction (it is then replaced as a whole)."""
     from uvms.errors import UvmsInputError
+    from uvms.output import check_destination
 
     out = out.resolve()
     if out.exists():
@@ -276,6 +277,7 @@ def _check_output(out: Path) -> Path:
         if any(out.iterdir()) and not (out / "metrics.json").exists():
             raise UvmsInputError("folder is not empty and holds no earlier reproduction (metrics.json); "
                                  "choose another -o", str(out))
+    check_destination(out, "--output")
     return out
 
 

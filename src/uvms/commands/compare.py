@@ -39,6 +39,10 @@ def _check(args: argparse.Namespace) -> None:
         raise UvmsInputError(f"expected a period >= step ({args.step:g} s), found {args.period:g} s", path="--period")
     if not (math.isfinite(args.hydro_scale) and args.hydro_scale >= 0):
         raise UvmsInputError(f"expected a factor >= 0, found {args.hydro_scale!r}", path="--hydro-scale")
+    if args.json:
+        from uvms.output import check_destination
+
+        check_destination(args.json, "--json")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -71,6 +71,7 @@ def run(args: argparse.Namespace) -> int:
 def _check_output(out: Path) -> None:
     """Refuse an output path that is a file, or a non-empty directory that is not a previous run."""
     from uvms.errors import UvmsInputError
+    from uvms.output import check_destination
 
     if out.exists() and not out.is_dir():
         raise UvmsInputError("expected a directory, found a file", str(out), "--output")
@@ -80,6 +81,7 @@ def _check_output(out: Path) -> None:
     if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
         raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
                              "--output")
+    check_destination(out, "--output")
 
 
 class _Progress:

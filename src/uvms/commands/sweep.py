@@ -36,6 +36,7 @@ def run(args: argparse.Namespace) -> int:
     from rich.console import Console
 
     from uvms.errors import UvmsInputError
+    from uvms.output import check_destination
     from uvms.sweep import load_sweep, summarize
     from uvms.sweep import run as run_sweep
 
@@ -48,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
     if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
         raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
                              "--output")
+    check_destination(out, "--output")
 
     bar = _Progress(sweep.name, "scheduler " + args.scheduler if args.scheduler else f"{workers} local workers")
     start = time.perf_counter()
