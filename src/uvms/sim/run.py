@@ -289,7 +289,7 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     # inputs and signals of each row: those of the last update at or before its time (zero-order hold)
     update_times = np.array([u[0] for u in updates])
     which = np.clip(np.searchsorted(update_times, out_t + 0.5 * h, side="right") - 1, 0, len(updates) - 1)
-    out_tau = np.array([updates[k][1] for k in which]).reshape(n_out, n)
+    out_tau = np.array([u[1] for u in updates], dtype=float).reshape(len(updates), n)[which]
     sig = _held_signals([u[2] for u in updates], which)
     ee = np.zeros((n_out, 3))
     end_effector_path(km, np.ascontiguousarray(out_x), ee)
