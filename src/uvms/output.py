@@ -52,17 +52,24 @@ def replace_directory(tmp: Path, final: Path) -> None:
         os.replace(tmp, final)
 
 
-def check_destination(path, option: str) -> None:
-    """Refuse, before any long computation, an output ``path`` that could never be written: one under a file,
-    or in a folder the user may not write to. Raises a one-line :class:`~uvms.errors.UvmsInputError`
-    naming ``path`` and the command-line ``option``."""
+def check_destination(path, option: str, *, kind: str) -> None:
+    """Refuse, before any long computation, an output ``path`` that could never be written. Raises a one-line
+    :class:`~uvms.errors.UvmsInputError` naming ``path`` and the command-line ``option``.
+
+    ``kind``: ``"file"`` (written through a temporary sibling: its folder must be writable, and it must not be
+    a folder), ``"replaced folder"`` (built as a temporary sibling and renamed into place: the parent must be
+    writable) or ``"folder"`` (written in place, e.g. a resumable sweep: the folder itself must be writable
+    if it exists).
+    """
     from uvms.errors import UvmsInputError
 
     path = Path(path).absolute()
-    ancestor = path.parent
-    while not ancestor.exists() and ancestor != ancestor.parent:
-        ancestor = ancestor.parent
-    if not ancestor.is_dir():
-        raise UvmsInputError(f"cannot be created: {ancestor} is a file, not a folder", str(path), option)
-    if not os.access(ancestor, os.W_OK | os.X_OK):
-        raise UvmsInputError(f"cannot be created: no permission to write in {ancestor}", str(path), option)
+    if kind == "file" and path.is_dir():
+        raise UvmsInputError("expected a file name, found a folder", str(path), option)
+    where = path if kind == "folder" and path.exists() else path.parent
+    while not where.exists() and where != where.parent:
+        where = where.parent
+    if not where.is_dir():
+        raise UvmsInputError(f"cannot be created: {where} is a file, not a folder", str(path), option)
+    if not os.access(where, os.W_OK | os.X_OK):
+        raise UvmsInputError(f"cannot be written: no permission to write in {where}", str(path), option)

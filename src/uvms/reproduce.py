@@ -277,7 +277,7 @@ def _check_output(out: Path) -> Path:
         if any(out.iterdir()) and not (out / "metrics.json").exists():
             raise UvmsInputError("folder is not empty and holds no earlier reproduction (metrics.json); "
                                  "choose another -o", str(out))
-    check_destination(out, "--output")
+    check_destination(out, "--output", kind="replaced folder")
     return out
 
 

@@ -113,39 +113,58 @@ def test_axis_errors_by_hand_and_yaw_wraps(model):
     assert kin.error[2] == pytest.approx(6.0 - 2 * math.pi, abs=1e-12)       # 3 - (-3) wrapped
     np.testing.assert_allclose(kin.velocity, [0.4, 0.5, 0.3])
     np.testing.assert_allclose(kin.euler, euler, atol=1e-12)
-    assert axis_kinematics(st, p_d, 3.0 - math.pi).error[2] == pytest.approx(math.pi, abs=1e-12)
+    assert abs(axis_kinematics(st, p_d, 3.0 - math.pi).error[2]) == pytest.approx(math.pi, abs=1e-12)
 
 
-@pytest.mark.parametrize("surface", ["body_velocity", "error_rate"])
-def test_controller_update_is_the_law_on_each_axis(model, surface):
-    """One update of ``smc-ab`` at a tilted, moving state equals Slotine's law per axis assembled by hand:
-    ``f_hat`` from the own model's ``nu_dot``, the surge/sway/yaw commands in X, Y, N, and on the error-rate
-    surface the yaw moment divided by ``cos(phi) / cos(theta)``."""
+@pytest.mark.parametrize("name, surface, b_source", [
+    ("smc-ab", "body_velocity", "fixed"), ("smc-ab", "error_rate", "fixed"), ("smc-ab", "body_velocity", "model"),
+    ("smc-vehicle", "error_rate", "fixed"), ("smc-vehicle", "body_velocity", "model")])
+def test_controller_update_is_the_law_on_each_axis(model, name, surface, b_source):
+    """One update at a tilted, moving state equals Slotine's law per axis assembled by hand: ``f_hat`` from
+    the own model's ``nu_dot`` (``uvms.forward_dynamics`` of the whole system, or of the vehicle alone), the
+    surge/sway/yaw commands in X, Y, N, the yaw moment divided by ``cos(phi) / cos(theta)`` on the error-rate
+    surface, and with ``b_source = model`` the effective inertias ``1 / (M^-1)_jj`` from the own model's CRBA
+    mass matrix (the base block of ``M^-1`` is the inverse articulated inertia)."""
     from uvms.control.base import Measurement
 
-    controller = make_controller("smc-ab", model, parameters={"surface": surface, "desired_position": [0.1, -0.1, 0],
-                                                              "desired_yaw": 0.4})
-    st = State.from_euler(model, position=[0.2, 0.1, 0.3], euler=[0.3, -0.2, 0.9], nu=[0.1, -0.2, 0.3, 0.2, -0.1, 0],
-                          q=[0.4, -0.2, 0.3], qd=[0.5, 0.1, -0.2])
+    controller = make_controller(name, model, parameters={"surface": surface, "b_source": b_source,
+                                                          "desired_position": [0.1, -0.1, 0], "desired_yaw": 0.4})
+    pose = dict(position=[0.2, 0.1, 0.3], euler=[0.3, -0.2, 0.9], nu=[0.1, -0.2, 0.3, 0.2, -0.1, 0])
+    st = State.from_euler(model, **pose, q=[0.4, -0.2, 0.3], qd=[0.5, 0.1, -0.2])
     tau = np.array([1.0, -0.5, 0.2])
     out = controller.update(Measurement(time=0.0, state=st, joint_torques=tau, nu_dot=np.zeros(6)))
-    own = controller.model                                      # the controller's 0.4x model
-    nu_dot_hat = uvms.forward_dynamics(own, st, joint_torques=tau).nu_dot
+    if name == "smc-ab":
+        own, own_state, own_tau = controller.model, st, tau                 # the controller's 0.4x model
+    else:
+        own = controller.vehicle.model
+        own_state, own_tau = State.from_euler(own, **pose), None
+    nu_dot_hat = uvms.forward_dynamics(own, own_state, joint_torques=own_tau).nu_dot
     kin = axis_kinematics(st, [0.1, -0.1, 0], 0.4)
     f_hat = kin.accelerations(nu_dot_hat, surface)
     rates = kin.rates(surface)
     phi, theta = kin.euler[0], kin.euler[1]
     gain = [1.0, 1.0, 1.0 if surface == "body_velocity" else math.cos(phi) / math.cos(theta)]
-    b = [(36.0, 44.44), (36.0, 44.44), (1.287, 1.5889)]
+    if b_source == "model":
+        M_inv = np.linalg.inv(uvms.mass_matrix(own, own_state))
+        b_hat = [1.0 / M_inv[i, i] for i in (3, 4, 2)]
+        beta = [math.sqrt(44.44 / 36.0)] * 3
+    else:
+        bounds = [(36.0, 44.44), (36.0, 44.44), (1.287, 1.5889)]
+        b_hat = [math.sqrt(lo * hi) for lo, hi in bounds]
+        beta = [math.sqrt(hi / lo) for lo, hi in bounds]
     expected = np.zeros(6)
-    for j, index in enumerate((3, 4, 2)):
+    for j, (axis, index) in enumerate(zip(("surge", "sway", "yaw"), (3, 4, 2))):
         law = slotine_law(kin.error[j], rates[j], f_hat[j], bandwidth=LAMBDA, eta=ETA, boundary_layer=PHI,
-                          uncertainty=0.5, b_hat=math.sqrt(b[j][0] * b[j][1]), beta=math.sqrt(b[j][1] / b[j][0]),
-                          error_rate=kin.error_rate[j])
+                          uncertainty=0.5, b_hat=b_hat[j], beta=beta[j], error_rate=kin.error_rate[j])
         expected[index] = law.command / gain[j]
-        assert out.signals[f"s_{('surge', 'sway', 'yaw')[j]}"] == pytest.approx(law.s, rel=1e-12)
-    np.testing.assert_allclose(out.wrench, expected, rtol=1e-12, atol=1e-12)
-    assert gain[2] != pytest.approx(1.0, abs=1e-3) or surface == "body_velocity"
+        logged = {"s": law.s, "k": law.k, "f_hat": f_hat[j], "command": expected[index], "e": kin.error[j]}
+        if b_source == "model":
+            logged["b_hat"] = b_hat[j]
+        for key, value in logged.items():
+            assert out.signals[f"{key}_{axis}"] == pytest.approx(value, rel=1e-9, abs=1e-12), (key, axis)
+    assert len(out.signals) == 3 * (6 if b_source == "model" else 5) + 1 and out.signals["Phi"] == PHI
+    np.testing.assert_allclose(out.wrench, expected, rtol=1e-9, atol=1e-12)
+    assert surface == "body_velocity" or abs(gain[2] - 1.0) > 1e-3      # the state exercises the yaw gain
 
 
 # ----------------------------------------------------------------------------- the paper scenario, 10 s

@@ -42,7 +42,7 @@ def _check(args: argparse.Namespace) -> None:
     if args.json:
         from uvms.output import check_destination
 
-        check_destination(args.json, "--json")
+        check_destination(args.json, "--json", kind="file")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -81,7 +81,7 @@ def _check_output(out: Path) -> None:
     if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
         raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
                              "--output")
-    check_destination(out, "--output")
+    check_destination(out, "--output", kind="replaced folder")
 
 
 class _Progress:

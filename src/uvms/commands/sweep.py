@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
         raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
                              "--output")
-    check_destination(out, "--output")
+    check_destination(out, "--output", kind="folder")
 
     bar = _Progress(sweep.name, "scheduler " + args.scheduler if args.scheduler else f"{workers} local workers")
     start = time.perf_counter()

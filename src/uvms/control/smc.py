@@ -230,7 +230,7 @@ class SlidingModeController:
     def __init__(self, model, parameters: SlidingModeParameters | None = None, *, period: float = 0.01) -> None:
         if not period > 0:
             raise UvmsInputError(f"expected a period > 0 [s], found {period!r}", path="controller.period")
-        self.parameters = parameters or self.Parameters()
+        self._parameters = parameters or self.Parameters()
         self.period = float(period)
         self.plant = model
         self._position_desired: np.ndarray | None = None
@@ -249,6 +249,12 @@ class SlidingModeController:
         columns = kernels.N_SIGNAL_COLUMNS if par.b_source == "model" else kernels.B_HAT
         self._signal_columns = columns
         self._signal_names = [name for names in SIGNAL_NAMES for name in names[:columns]]
+
+    @property
+    def parameters(self) -> SlidingModeParameters:
+        """The parameters, fixed at construction (the controller's model and gains are derived from them once;
+        build a new controller to change them)."""
+        return self._parameters
 
     def reset(self) -> None:
         """Forget the captured desired pose (taken again at the next update unless given)."""
