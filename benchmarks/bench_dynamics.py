@@ -65,18 +65,31 @@ class Section:
 
 # -- timing ---------------------------------------------------------------------------------------------------
 
-def time_per_call_us(batch: Callable[[int], object], settings: Settings, calls: int | None = None) -> float:
-    """Median (or minimum, ``settings.statistic``) over ``settings.repeats`` of the time of ``batch(calls)``
-    divided by ``calls`` [us per call]."""
+def time_side_by_side(batches: dict[str, Callable[[int], object]], settings: Settings,
+                      calls: int | None = None) -> dict[str, float]:
+    """Per name, the median (or minimum, ``settings.statistic``) over ``settings.repeats`` of the time of
+    ``batch(calls)`` divided by ``calls`` [us per call].
+
+    The batches take turns within every repeat (in a rotating order), so a busy spell of the machine slows
+    all of them alike and their ratios stay meaningful."""
     calls = settings.calls if calls is None else calls
-    batch(min(calls, 10))                                   # warm-up (compilation, caches)
-    times = []
-    for _ in range(settings.repeats):
-        t0 = time.perf_counter()
-        batch(calls)
-        times.append(time.perf_counter() - t0)
-    best = min(times) if settings.statistic == "min" else statistics.median(times)
-    return best / calls * 1e6
+    names = list(batches)
+    for name in names:
+        batches[name](min(calls, 10))                       # warm-up (compilation, caches)
+    times: dict[str, list[float]] = {name: [] for name in names}
+    for repeat in range(settings.repeats):
+        for k in range(len(names)):
+            name = names[(repeat + k) % len(names)]
+            t0 = time.perf_counter()
+            batches[name](calls)
+            times[name].append(time.perf_counter() - t0)
+    pick = min if settings.statistic == "min" else statistics.median
+    return {name: pick(t) / calls * 1e6 for name, t in times.items()}
+
+
+def time_per_call_us(batch: Callable[[int], object], settings: Settings, calls: int | None = None) -> float:
+    """:func:`time_side_by_side` of one batch."""
+    return time_side_by_side({"batch": batch}, settings, calls)["batch"]
 
 
 def python_loop(fn: Callable, *args, **kwargs) -> Callable[[int], None]:
@@ -237,10 +250,12 @@ def bench_python(settings: Settings) -> Section:
     """(a) ``uvms.forward_dynamics`` from Python (argument checks, workspace allocation and the kernel)."""
     sec = Section("python", "uvms.forward_dynamics from Python, paper model", ["model", "us/call", "ratio"])
     hydro, rigid = paper_models()
+    batches = {}
     for name, model in (("rigid", rigid), ("hydrodynamic", hydro)):
         inp = KernelInputs(model)
-        batch = python_loop(uvms.forward_dynamics, model, inp.state, joint_torques=inp.tau, body_wrench=inp.f_body)
-        sec.figures[f"forward_dynamics_{name}_us"] = time_per_call_us(batch, settings)
+        batches[f"forward_dynamics_{name}_us"] = python_loop(uvms.forward_dynamics, model, inp.state,
+                                                             joint_torques=inp.tau, body_wrench=inp.f_body)
+    sec.figures.update(time_side_by_side(batches, settings))
     r, h = sec.figures["forward_dynamics_rigid_us"], sec.figures["forward_dynamics_hydrodynamic_us"]
     sec.rows = [["rigid", r, 1.0], ["hydrodynamic", h, h / r]]
     return sec
@@ -251,8 +266,8 @@ def bench_compiled(settings: Settings) -> Section:
     sec = Section("compiled", "aba kernel in an @njit loop, paper model (per evaluation)",
                   ["model", "us/call", "ratio"])
     hydro, rigid = paper_models()
-    for name, model in (("rigid", rigid), ("hydrodynamic", hydro)):
-        sec.figures[f"aba_{name}_us"] = time_per_call_us(KernelInputs(model).aba_batch, settings)
+    sec.figures.update(time_side_by_side({f"aba_{name}_us": KernelInputs(model).aba_batch
+                                          for name, model in (("rigid", rigid), ("hydrodynamic", hydro))}, settings))
     r, h = sec.figures["aba_rigid_us"], sec.figures["aba_hydrodynamic_us"]
     sec.figures["hydro_over_rigid"] = h / r
     sec.rows = [["rigid", r, 1.0], ["hydrodynamic", h, h / r]]
@@ -289,11 +304,15 @@ def bench_pinocchio(settings: Settings) -> Section:
 
     reference = uvms.forward_dynamics(rigid, inp.state, joint_torques=inp.tau, body_wrench=inp.f_body)
     error = np.abs(generalized_from_pinocchio(pin.aba(pm, pd, q, v, tau, fext)) - reference.generalized).max()
-    uvms_python = time_per_call_us(python_loop(uvms.forward_dynamics, rigid, inp.state, joint_torques=inp.tau,
-                                        body_wrench=inp.f_body), settings)
-    uvms_compiled = time_per_call_us(inp.aba_batch, settings)
-    sec.figures["pinocchio_aba_us"] = time_per_call_us(python_loop(pin.aba, pm, pd, q, v, tau), settings)
-    sec.figures["pinocchio_aba_fext_us"] = time_per_call_us(python_loop(pin.aba, pm, pd, q, v, tau, fext), settings)
+    t = time_side_by_side({
+        "uvms_python": python_loop(uvms.forward_dynamics, rigid, inp.state, joint_torques=inp.tau,
+                                   body_wrench=inp.f_body),
+        "uvms_compiled": inp.aba_batch,
+        "pinocchio": python_loop(pin.aba, pm, pd, q, v, tau),
+        "pinocchio_fext": python_loop(pin.aba, pm, pd, q, v, tau, fext)}, settings)
+    uvms_python, uvms_compiled = t["uvms_python"], t["uvms_compiled"]
+    sec.figures["pinocchio_aba_us"] = t["pinocchio"]
+    sec.figures["pinocchio_aba_fext_us"] = t["pinocchio_fext"]
     sec.figures["uvms_forward_dynamics_rigid_us"] = uvms_python
     sec.figures["uvms_aba_compiled_rigid_us"] = uvms_compiled
     sec.figures["max_abs_difference"] = float(error)
@@ -406,11 +425,12 @@ def bench_mujoco(settings: Settings) -> Section:
         return batch
 
     f = sec.figures
-    f["mj_step_rk4_fluid_us"] = time_per_call_us(stepper(True, mujoco.mj_step), settings)
-    f["mj_forward_fluid_us"] = time_per_call_us(stepper(True, mujoco.mj_forward), settings)
-    f["mj_step_rk4_no_fluid_us"] = time_per_call_us(stepper(False, mujoco.mj_step), settings)
-    f["mj_forward_no_fluid_us"] = time_per_call_us(stepper(False, mujoco.mj_forward), settings)
-    f["uvms_aba_compiled_hydro_us"] = time_per_call_us(inp.aba_batch, settings)
+    f.update(time_side_by_side({
+        "mj_step_rk4_fluid_us": stepper(True, mujoco.mj_step),
+        "mj_forward_fluid_us": stepper(True, mujoco.mj_forward),
+        "mj_step_rk4_no_fluid_us": stepper(False, mujoco.mj_step),
+        "mj_forward_no_fluid_us": stepper(False, mujoco.mj_forward),
+        "uvms_aba_compiled_hydro_us": inp.aba_batch}, settings))
     f["rigid_check_max_abs_qacc_difference"] = mujoco_rigid_check(mujoco, hydro)
     four = 4 * f["uvms_aba_compiled_hydro_us"]
     sec.rows = [
@@ -446,23 +466,23 @@ def bench_scaling(settings: Settings) -> Section:
         model = random_chain(rng, n, hydro=True)
         rigid = model.with_effects(added_mass=False, drag=False, buoyancy=False)
         inp = KernelInputs(model)
-        calls = settings.calls
-        t_aba = time_per_call_us(inp.aba_batch, settings, calls)
-        t_rigid = time_per_call_us(KernelInputs(rigid).aba_batch, settings, calls)
-        t_chol = time_per_call_us(inp.crba_batch(False), settings, calls)
+        inp.crba_batch(False)(1)
         x_chol = inp.x.copy()
-        t_lapack = time_per_call_us(inp.crba_batch(True), settings, calls)
         inp.aba_batch(1)
         disagreement = np.abs(x_chol - np.concatenate([inp.nu_dot, inp.qdd])).max()
         if disagreement > 1e-8 * max(1.0, np.abs(x_chol).max()):
             sec.notes.append(f"n={n}: ABA and CRBA+RNEA+solve disagree by {disagreement:.1e}")
-        t_pin = float("nan")
+        batches = {"aba": inp.aba_batch, "rigid": KernelInputs(rigid).aba_batch, "chol": inp.crba_batch(False),
+                   "lapack": inp.crba_batch(True)}
         if pin is not None:
             pm = pinocchio_model_from(rigid)
             pd = pm.createData()
             q, v = pinocchio_configuration(inp.state), pinocchio_velocity(inp.state)
             tau = np.concatenate([np.zeros(6), inp.tau])
-            t_pin = time_per_call_us(python_loop(pin.aba, pm, pd, q, v, tau), settings, calls)
+            batches["pin"] = python_loop(pin.aba, pm, pd, q, v, tau)
+        t = time_side_by_side(batches, settings)
+        t_aba, t_rigid, t_chol, t_lapack = t["aba"], t["rigid"], t["chol"], t["lapack"]
+        t_pin = t.get("pin", float("nan"))
         sec.rows.append([n, t_aba, t_rigid, t_chol, t_lapack, t_pin, t_chol / t_aba, t_lapack / t_aba])
         sec.figures.update({f"aba_hydro_n{n}_us": t_aba, f"aba_rigid_n{n}_us": t_rigid,
                             f"crba_rnea_cholesky_n{n}_us": t_chol, f"crba_rnea_lapack_n{n}_us": t_lapack,
@@ -499,8 +519,7 @@ def bench_simulation(settings: Settings) -> Section:
             np.zeros(6), *zeros_table, False, bounds, out_t, out_x, 0)
 
     f = sec.figures
-    f["uvms_rk4_step_us"] = time_per_call_us(rk4_batch, settings)
-    sec.rows.append(["uvms RK4 step (compiled loop, full hydrodynamics)", f["uvms_rk4_step_us"], "us"])
+    batches: dict[str, Callable[[int], object]] = {"uvms_rk4_step_us": rk4_batch}
     try:
         import mujoco
 
@@ -516,9 +535,7 @@ def bench_simulation(settings: Settings) -> Section:
             for _ in range(calls):
                 mujoco.mj_step(mm, md)
 
-        f["mujoco_mj_step_rk4_fluid_us"] = time_per_call_us(mj_batch, settings)
-        sec.rows.append(["MuJoCo mj_step RK4 + ellipsoid fluid (Python loop)", f["mujoco_mj_step_rk4_fluid_us"],
-                         f"{f['mujoco_mj_step_rk4_fluid_us'] / f['uvms_rk4_step_us']:.2f} x uvms"])
+        batches["mujoco_mj_step_rk4_fluid_us"] = mj_batch
         try:
             from mujoco import rollout
 
@@ -529,13 +546,19 @@ def bench_simulation(settings: Settings) -> Section:
             def rollout_batch(calls: int) -> None:
                 rollout.rollout(mm, md, state0, nstep=calls)
 
-            f["mujoco_rollout_step_us"] = time_per_call_us(rollout_batch, settings)
-            sec.rows.append(["MuJoCo rollout (C loop) per RK4 step, fluid", f["mujoco_rollout_step_us"],
-                             f"{f['mujoco_rollout_step_us'] / f['uvms_rk4_step_us']:.2f} x uvms"])
+            rollout_batch(1)
+            batches["mujoco_rollout_step_us"] = rollout_batch
         except Exception as exc:  # rollout API differs between versions
             sec.notes.append(f"mujoco.rollout skipped: {exc}")
     except ImportError:
         sec.notes.append("MuJoCo skipped: not installed")
+    f.update(time_side_by_side(batches, settings))
+    sec.rows.append(["uvms RK4 step (compiled loop, full hydrodynamics)", f["uvms_rk4_step_us"], "us"])
+    for key, label in (("mujoco_mj_step_rk4_fluid_us", "MuJoCo mj_step RK4 + ellipsoid fluid (Python loop)"),
+                       ("mujoco_rollout_step_us", "MuJoCo rollout (C loop) per RK4 step, fluid")):
+        if key in f:
+            sec.rows.append([label, f[key], f"{f[key] / f['uvms_rk4_step_us']:.2f} x uvms"])
+    sec.notes.append("the RK4 steps are timed side by side (batches take turns in every repeat)")
 
     def wall(fn) -> tuple[float, float]:
         """(statistic, best) of ``settings.repeats`` whole runs [s], after one warm-up run."""
