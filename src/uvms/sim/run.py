@@ -85,7 +85,7 @@ class _Commands:
         self.thrusters = thrusters
         self.m = len(thrusters)
         if self.m:
-            from uvms.thrusters.healey import steady_coefficients
+            from uvms.thrusters.healey import healey_voltage_for_thrust, steady_coefficients
             from uvms.thrusters.layouts import layout_matrix, thrust_limits
 
             self.Lambda = layout_matrix(thrusters)
@@ -93,12 +93,12 @@ class _Commands:
             self.lower, self.upper = thrust_limits(thrusters)
             self.healey = [(t.parameters.as_array(), steady_coefficients(t.parameters)) if t.model == "healey"
                            else None for t in thrusters]
+            self.voltage = healey_voltage_for_thrust
+            self.names = [f"thrust_cmd_{t.name}" for t in thrusters] + [f"unachieved_{a}" for a in self.LABELS]
 
     def __call__(self, wrench: np.ndarray) -> tuple[np.ndarray, dict[str, float]]:
         if self.m == 0:
             return np.array(wrench, dtype=float), {}
-        from uvms.thrusters.healey import healey_voltage_for_thrust
-
         thrust = self.pinv @ wrench
         if np.any(thrust < self.lower) or np.any(thrust > self.upper):
             from uvms.thrusters.allocation import allocate
@@ -106,15 +106,11 @@ class _Commands:
             thrust = allocate(self.Lambda, wrench, self.lower, self.upper).thrust
         residual = wrench - self.Lambda @ thrust
         command = np.zeros(max(self.m, 6))
-        signals: dict[str, float] = {}
-        for j, t in enumerate(self.thrusters):
-            T = float(thrust[j])
+        thrusts = thrust.tolist()
+        for j, T in enumerate(thrusts):
             h = self.healey[j]
-            command[j] = healey_voltage_for_thrust(h[0], h[1], T) if h is not None else T
-            signals[f"thrust_cmd_{t.name}"] = T
-        for k, a in enumerate(self.LABELS):
-            signals[f"unachieved_{a}"] = float(residual[k])
-        return command, signals
+            command[j] = self.voltage(h[0], h[1], T) if h is not None else T
+        return command, dict(zip(self.names, thrusts + residual.tolist()))
 
 
 def simulate(model, initial_state: State | None = None, *, duration: float, step: float = 1e-3,
