@@ -20,7 +20,8 @@ from uvms.dynamics.kernel_model import make_workspace
 from uvms.dynamics.rnea import rnea
 
 _local = threading.local()
-"""Per-thread workspaces by number of bodies: a call reuses one instead of allocating ~16 arrays."""
+"""Per-thread workspaces by number of bodies: a call reuses one instead of allocating ~16 arrays. (The kernels
+hold the GIL today; one workspace per thread keeps this right if they ever release it.)"""
 _entries: dict[tuple, tuple] = {}
 """Compiled entry point of a kernel for one model's kernel arrays: ``(kernel, id(arrays)) -> (arrays, entry)``
 (the arrays are held so that their id is not reused). The other arguments are built here, always as fresh
