@@ -104,6 +104,21 @@ def test_version_help_and_usage_errors(capsys):
     assert "validate" in capsys.readouterr().out
     assert main([]) == 2
     assert main(["no-such-command"]) == 2
+    assert main(["sweep", "x", "--workers", "abc"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["uvms: error: the following arguments are required: COMMAND (see 'uvms --help')",
+                   "uvms: error: argument COMMAND: invalid choice: 'no-such-command' (choose from "
+                   + ", ".join(f"'{c.replace('_', '-')}'" for c in COMMANDS) + ") (see 'uvms --help')",
+                   "uvms: error: argument --workers: invalid int value: 'abc' (see 'uvms sweep --help')"]
+
+
+def test_ctrl_c_is_one_line_and_exit_130(monkeypatch, capsys):
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(importlib.import_module("uvms.commands.validate"), "run", interrupted)
+    assert main(["validate", "paper"]) == 130
+    assert capsys.readouterr().err == "uvms: interrupted\n"
 
 
 def test_simulation_diverged_exits_3(monkeypatch, capsys):

@@ -22,9 +22,16 @@ def _version() -> str:
         return "unknown"
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line (``uvms: error: ...``), like every other input error."""
+
+    def error(self, message: str):
+        raise UvmsInputError(f"{message} (see '{self.prog} --help')")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``uvms`` parser with one subparser per module in :data:`uvms.commands.COMMANDS`."""
-    parser = argparse.ArgumentParser(prog="uvms", description="Underwater vehicle-manipulator system simulator.")
+    parser = _Parser(prog="uvms", description="Underwater vehicle-manipulator system simulator.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module_name in COMMANDS:
@@ -40,8 +47,11 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         return int(args._run(args))
-    except SystemExit as exc:  # argparse: --help, --version, usage errors
+    except SystemExit as exc:  # argparse: --help, --version
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    except KeyboardInterrupt:  # Ctrl-C: results are written atomically, so nothing half-written remains
+        print("uvms: interrupted", file=sys.stderr)
+        return 130
     except UvmsInputError as exc:
         print(f"uvms: error: {exc}", file=sys.stderr)
         return 2

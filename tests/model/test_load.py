@@ -47,6 +47,17 @@ def test_by_name_and_by_path_agree(model, tmp_path):
     assert model.source == str(PAPER_PATH) and load_model(copy_path).source == str(copy_path)
 
 
+def test_numbers_without_a_dot_in_exponent_form_are_numbers(model, tmp_path):
+    """``3.2e1`` is a float in YAML 1.1, ``32e0`` only in YAML 1.2: model files accept both."""
+    text = PAPER_PATH.read_text()
+    data = yaml.safe_load(text)
+    assert data["vehicle"]["mass"] == 32.0
+    path = tmp_path / "exp.yaml"
+    path.write_text(text.replace("mass: 32.0", "mass: 32e0", 1))
+    assert "mass: 32e0" in path.read_text()
+    np.testing.assert_array_equal(load_model(path).mass, model.mass)
+
+
 def test_paper_bodies(model):
     assert model.name == "paper" and model.n_joints == 3
     assert model.body_names == ("vehicle", "link1", "link2", "link3")

@@ -8,6 +8,7 @@ reused for other input files (scenarios).
 from __future__ import annotations
 
 import os
+import re
 import types
 import typing
 from importlib.resources import files
@@ -37,6 +38,10 @@ class _UniqueKeyLoader(yaml.SafeLoader):
                 mark = node.value[i][0].start_mark
                 raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", mark)
         return super().construct_mapping(node, deep=deep)
+
+
+_UniqueKeyLoader.add_implicit_resolver(   # YAML 1.2 floats without a dot (1e2, -3E-4): PyYAML's YAML 1.1 reads strings
+    "tag:yaml.org,2002:float", re.compile(r"^[-+]?[0-9][0-9_]*[eE][-+]?[0-9]+$"), list("-+0123456789"))
 
 
 def read_yaml(path: str | os.PathLike[str]) -> Any:
