@@ -112,6 +112,15 @@ def test_version_help_and_usage_errors(capsys):
                    "uvms: error: argument --workers: invalid int value: 'abc' (see 'uvms sweep --help')"]
 
 
+@pytest.mark.parametrize("argv, message", [
+    (["compare", "--duration", "0.0001"], "--step: expected a step <= duration (0.0001 s), found 0.001 s"),
+    (["compare", "--duration", "1e300"], "--step: expected at most 1e+09 steps in --duration, found 1e+303"),
+])
+def test_compare_refuses_runs_of_no_steps_or_too_many(capsys, argv, message):
+    assert main(argv) == 2
+    assert capsys.readouterr().err == f"uvms: error: {message}\n"
+
+
 def test_ctrl_c_is_one_line_and_exit_130(monkeypatch, capsys):
     def interrupted(args):
         raise KeyboardInterrupt

@@ -173,3 +173,40 @@ def test_a_signal_logged_only_on_some_updates_is_nan_elsewhere(paper):
 def test_a_schedule_of_the_wrong_width_is_refused(paper):
     with pytest.raises(ValueError, match="3 joints"):
         simulate(paper, duration=0.1, joint_torques=TorqueSchedule.constant([1.0]))
+
+
+def test_events_are_the_merged_multiples_breakpoints_and_end():
+    """The lazily generated stop steps equal the sorted union of every period's multiples, the breakpoints
+    and the end (what a set of them would hold, without building one for a long run)."""
+    from uvms.sim.run import _events
+
+    rng = np.random.default_rng(3)
+    for _ in range(300):
+        n_total = int(rng.integers(1, 400))
+        periods = tuple(int(p) for p in rng.integers(0, 30, size=2))
+        breaks = [int(b) for b in rng.integers(-5, n_total + 5, size=int(rng.integers(0, 5)))]
+        expected = {n_total} | set(breaks)
+        for p in periods:
+            if p:
+                expected.update(range(p, n_total, p))
+        assert list(_events(n_total, periods, breaks)) == sorted(e for e in expected if 0 < e <= n_total)
+
+
+def test_sparse_records_hold_the_same_signals_as_a_full_record(paper):
+    """With a record every 7 ms and updates every 10 ms, most updates own no row and are not kept; every row
+    still holds the signals and torques of the last update at or before it (as in the full 1 ms record)."""
+    full = simulate(paper, duration=0.3, step=1e-3, controller=_Sometimes(0.01), joint_torques=paper_torques())
+    sparse = simulate(paper, duration=0.3, step=1e-3, controller=_Sometimes(0.01), joint_torques=paper_torques(),
+                      record_period=0.007)
+    rows = np.searchsorted(full.time, sparse.time - 1e-12)
+    np.testing.assert_allclose(full.time[rows], sparse.time, atol=1e-12)
+    assert len(sparse.time) == 43
+    np.testing.assert_array_equal(sparse.joint_torques, full.joint_torques[rows])
+    for name in ("count", "odd"):
+        np.testing.assert_array_equal(sparse.signals[name], full.signals[name][rows])
+
+
+@pytest.mark.parametrize("duration, step", [(1e300, 1e-3), (1.0, 1e-12), (1e-4, 1e-3), (float("nan"), 1e-3)])
+def test_a_run_of_no_steps_or_of_too_many_is_refused(paper, duration, step):
+    with pytest.raises(ValueError, match="step"):
+        simulate(paper, duration=duration, step=step)

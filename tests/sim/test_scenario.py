@@ -127,6 +127,7 @@ BAD = {  # change to case 2 -> (field path, part of the message)
     "negative_duration": (lambda d: d.update(duration=-1.0), "duration", "expected a number > 0, found -1"),
     "zero_step": (lambda d: d.update(step=0), "step", "expected a number > 0, found 0"),
     "step_longer_than_run": (lambda d: d.update(duration=0.01, step=0.1), "step", "expected a step <= duration"),
+    "too_many_steps": (lambda d: d.update(duration=1e300), "step", "expected at most 1e+09 steps in the duration"),
     "torque_length": (lambda d: d["inputs"]["joint_torques"][1].update(torques=[0.01, 0]),
                       "inputs.joint_torques[1].torques", "expected 3 values (one per joint of model 'paper')"),
     "constant_torque_length": (lambda d: d["inputs"].update(joint_torques={"constant": [1, 2, 3, 4]}),

@@ -35,6 +35,13 @@ def _check(args: argparse.Namespace) -> None:
         value = getattr(args, name)
         if not (math.isfinite(value) and value > 0):
             raise UvmsInputError(f"expected a positive number of seconds, found {value!r}", path=f"--{name}")
+    if args.step > args.duration:
+        raise UvmsInputError(f"expected a step <= duration ({args.duration:g} s), found {args.step:g} s", path="--step")
+    from uvms.sim.run import MAX_STEPS
+
+    if args.duration / args.step > MAX_STEPS:
+        raise UvmsInputError(f"expected at most {MAX_STEPS:.0e} steps in --duration, found {args.duration / args.step:.3g}",
+                             path="--step")
     if args.period < args.step:
         raise UvmsInputError(f"expected a period >= step ({args.step:g} s), found {args.period:g} s", path="--period")
     if not (math.isfinite(args.hydro_scale) and args.hydro_scale >= 0):

@@ -24,6 +24,9 @@ from uvms.sim.integrate import check_state, pack, rk4, state_derivative, unpack
 from uvms.sim.result import Result
 from uvms.state import State
 
+MAX_STEPS = 10**9
+"""Largest number of steps in one run (duration / step): ~3 hours of computing at 10 us per step."""
+
 DEFAULT_BOUNDS = np.array([1e4, 1e3, 1e3, 1e6])
 """Sane-state limits for divergence detection: |position| [m], |nu| [rad/s, m/s], |qd| [rad/s], |actuator|."""
 
@@ -142,8 +145,7 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         progress: ``progress(t, duration)`` called after each segment.
     """
     wall0 = _time.perf_counter()
-    if duration <= 0 or step <= 0:
-        raise ValueError("duration and step must be positive")
+    n_total = check_steps(duration, step)
     n = model.n_joints
     state = initial_state if initial_state is not None else State.zero(model)
     if state.q.size != n:
@@ -157,7 +159,6 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         state = state.replace(nu=np.zeros(6))
     x = pack(state).astype(float)
 
-    n_total = int(round(duration / step))
     h = duration / n_total
     # -- events on the step grid: controller updates (its own period), arm-command updates (control_period),
     #    and the breakpoints of a torque schedule (snapped to the nearest step)
@@ -167,13 +168,9 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         ctrl_every = max(1, int(round((getattr(controller, "period", None) or control_period or 0.01) / h)))
     if arm_callable:
         arm_every = max(1, int(round((control_period or getattr(joint_torques, "period", None) or 0.01) / h)))
-    events = {n_total}
-    for every in (ctrl_every, arm_every):
-        if every:
-            events.update(range(every, n_total, every))
-    if isinstance(joint_torques, TorqueSchedule):
-        events.update(int(round(tb / h)) for tb in joint_torques.breakpoints() if 0 < tb < duration)
-    events = sorted(e for e in events if e > 0)
+    breakpoints = ([int(round(tb / h)) for tb in joint_torques.breakpoints() if 0 < tb < duration]
+                   if isinstance(joint_torques, TorqueSchedule) else [])
+    events = _events(n_total, (ctrl_every, arm_every), breakpoints)
     if record_period is None:
         record_period = h * max(1, int(np.ceil(n_total / 20000)))
     record_every = max(1, int(round(record_period / h)))
@@ -231,7 +228,8 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     tau = np.zeros(n)
     command = zero_cmd
     signals: dict[str, float] = {}
-    updates: list[tuple[float, np.ndarray, dict[str, float]]] = []      # (time, tau, signals), zero-order hold
+    # (step, tau, signals) of the updates, zero-order hold; an update that holds no recorded row is dropped
+    updates: list[tuple[int, np.ndarray, dict[str, float]]] = []
     for event in events:
         t = done * h
         st = unpack(x, n)
@@ -250,7 +248,9 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
             signals = dict(out.signals)
             signals.update(zip(_COMMAND_NAMES, wrench.tolist()))
             signals.update(alloc_signals)
-        updates.append((t, tau, signals))
+        if updates and -(-updates[-1][0] // record_every) * record_every >= done:
+            updates.pop()                   # no row recorded at its steps [previous, done): nothing to log
+        updates.append((done, tau, signals))
         steps = event - done
         if integrator.lower() == "rk4":
             args = (km, ws, act, x, float(t), float(h), int(steps), int(done), int(record_every), tau, f_ext, f_ee,
@@ -283,7 +283,7 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     out_t = out_t[:n_out]
     out_x = out_x[:n_out]
     # inputs and signals of each row: those of the last update at or before its time (zero-order hold)
-    update_times = np.array([u[0] for u in updates])
+    update_times = np.array([u[0] * h for u in updates])
     which = np.clip(np.searchsorted(update_times, out_t + 0.5 * h, side="right") - 1, 0, len(updates) - 1)
     out_tau = np.array([u[1] for u in updates], dtype=float).reshape(len(updates), n)[which]
     sig = _held_signals([u[2] for u in updates], which)
@@ -293,6 +293,34 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
             "wall_time_s": _time.perf_counter() - wall0, "model": model.name, **_versions(), **(metadata or {})}
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
                   signals=sig, complete=complete, message=message, metadata=meta)
+
+
+def check_steps(duration: float, step: float) -> int:
+    """The number of steps of a run, ``round(duration / step)``; ``ValueError`` unless it is 1 to
+    :data:`MAX_STEPS`."""
+    if not (np.isfinite(duration) and np.isfinite(step) and duration > 0 and step > 0):
+        raise ValueError(f"duration and step must be positive and finite, found {duration!r} and {step!r} s")
+    n = duration / step
+    if not 0.5 <= n <= MAX_STEPS:
+        raise ValueError(f"expected 1 to {MAX_STEPS:.0e} steps of {step:g} s in {duration:g} s, found {n:.3g}")
+    return int(round(n))
+
+
+def _events(n_total: int, periods: tuple[int, ...], breakpoints: list[int]):
+    """The steps at which the loop stops, in order: multiples of each non-zero period (in steps), the
+    breakpoints, and ``n_total``; generated one at a time (a long run holds no list of them)."""
+    upcoming = {every: every for every in periods if every}
+    pending = sorted(b for b in set(breakpoints) if 0 < b < n_total)
+    i = 0
+    event = 0
+    while event < n_total:
+        event = min(n_total, *upcoming.values(), pending[i] if i < len(pending) else n_total)
+        yield event
+        for every in upcoming:
+            if upcoming[every] <= event:
+                upcoming[every] = (event // every + 1) * every
+        while i < len(pending) and pending[i] <= event:
+            i += 1
 
 
 def _held_signals(per_update: list[dict[str, float]], which: np.ndarray) -> dict[str, np.ndarray]:

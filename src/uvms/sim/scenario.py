@@ -367,6 +367,11 @@ class ScenarioSpec(Spec):
     def _consistent(self) -> ScenarioSpec:
         if self.step > self.duration:
             raise fail(f"expected a step <= duration ({self.duration:g} s), found {self.step:g} s", "step")
+        from uvms.sim.run import MAX_STEPS
+
+        if self.duration / self.step > MAX_STEPS:
+            raise fail(f"expected at most {MAX_STEPS:.0e} steps in the duration ({self.duration:g} s), found "
+                       f"{self.duration / self.step:.3g}", "step")
         if self.controller is not None and self.controller.period < self.step:
             raise fail(f"expected a period >= step ({self.step:g} s), found {self.controller.period:g} s",
                        "controller.period")
