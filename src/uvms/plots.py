@@ -196,6 +196,22 @@ def timeseries_figure(table, *, title: str | None = None) -> Figure:
     return fig
 
 
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
+
+
+def check_figure_path(path: str | os.PathLike[str], option: str) -> Path:
+    """``path`` as a figure file a command can write (a known image extension, a writable place), or a
+    one-line :class:`~uvms.errors.UvmsInputError` naming ``option``; checked before any drawing."""
+    from uvms.errors import UvmsInputError
+    from uvms.output import check_destination
+
+    path = Path(path)
+    if path.suffix.lower() not in FIGURE_SUFFIXES:
+        raise UvmsInputError("expected a .png, .pdf, .svg or .jpg file name", str(path), option)
+    check_destination(path, option, kind="file")
+    return path
+
+
 def save_figure(fig: Figure, path: str | os.PathLike[str], *, dpi: int = 110) -> Path:
     """Save a figure atomically (a temporary file in the same folder, then a rename); the format from the
     file extension."""

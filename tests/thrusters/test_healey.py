@@ -280,6 +280,20 @@ def test_thruster_curve_command(tmp_path, capsys):
     assert figure.stat().st_size > 10_000
 
 
+@pytest.mark.parametrize("argv, message", [
+    (["--step", "1e-9"], "--step: expected a voltage step from 0.024 to 24 V, found 1e-09"),
+    (["--step", "inf"], "--step: expected a voltage step from 0.024 to 24 V, found inf"),
+    (["--plot", "curve.txt"], "curve.txt: --plot: expected a .png, .pdf, .svg or .jpg file name"),
+])
+def test_thruster_curve_bad_values_are_one_line(tmp_path, monkeypatch, capsys, argv, message):
+    from uvms.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["thruster-curve", *argv]) == 2
+    assert capsys.readouterr().err == f"uvms: error: {message}\n"
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_bank_matches_single_thruster_kernels():
     from uvms.thrusters.healey import healey_bank_derivatives
 

@@ -19,14 +19,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read the run's table, draw it, save the figure."""
-    from uvms.errors import UvmsInputError
-    from uvms.plots import save_figure, timeseries_figure
+    from uvms.plots import check_figure_path, save_figure, timeseries_figure
 
     directory = Path(args.directory)
     table = _read_table(directory)
-    output = Path(args.output) if args.output else directory / "timeseries.png"
-    if output.suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
-        raise UvmsInputError("expected a .png, .pdf, .svg or .jpg file name", str(output), "--output")
+    output = check_figure_path(args.output if args.output else directory / "timeseries.png", "--output")
     fig = timeseries_figure(table, title=_title(directory))
     save_figure(fig, output)
     print(f"figure saved to {output}")

@@ -8,6 +8,10 @@ NAME = "thruster-curve"
 HELP = "tabulate (and optionally plot) the default Healey thruster's steady thrust and step response"
 
 
+MAX_POINTS = 1000
+"""Most voltages tabulated on each side of zero."""
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--step", type=float, default=3.0, metavar="VOLTS",
                         help="voltage spacing of the table, from -Vmax to +Vmax (default: 3)")
@@ -26,8 +30,13 @@ def run(args: argparse.Namespace) -> int:
     from uvms.thrusters.healey import RECOMMENDED_MAX_STEP, RK4_STABILITY_LIMIT, HealeyParameters
 
     params = HealeyParameters()
-    if not args.step > 0:
-        raise UvmsInputError(f"must be positive, got {args.step}", path="--step")
+    if not (math.isfinite(args.step) and params.max_voltage / MAX_POINTS <= args.step <= params.max_voltage):
+        raise UvmsInputError(f"expected a voltage step from {params.max_voltage / MAX_POINTS:g} to "
+                             f"{params.max_voltage:g} V, found {args.step!r}", path="--step")
+    if args.plot is not None:
+        from uvms.plots import check_figure_path
+
+        check_figure_path(args.plot, "--plot")
     curve = thrust_curve(params, default_voltages(params, args.step))
 
     table = Table(title="Healey thruster (defaults): steady state, 63 % rise from rest")
@@ -39,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     console.print(table)
     console.print(f"RK4 stability limit {RK4_STABILITY_LIMIT * 1e3:.1f} ms, recommended step <= "
                   f"{RECOMMENDED_MAX_STEP * 1e3:.0f} ms")
-    if args.plot:
+    if args.plot is not None:
         _plot(params, curve, args.plot)
         console.print(f"figure saved to {args.plot}")
     return 0
@@ -52,6 +61,7 @@ def _plot(params, curve, path: str) -> None:
     import matplotlib.pyplot as plt
     import numpy as np
 
+    from uvms.plots import save_figure
     from uvms.thrusters.curve import step_responses
     from uvms.thrusters.healey import steady_state
 
@@ -72,5 +82,5 @@ def _plot(params, curve, path: str) -> None:
     right.grid(True)
     right.legend()
     fig.suptitle("Healey thruster (default parameters)")
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)
     plt.close(fig)
