@@ -384,3 +384,16 @@ def test_unreachable_scheduler_is_one_line(tmp_path, capsys, monkeypatch):
     code = main(["sweep", str(path), "-o", str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "--scheduler: cannot connect to the Dask scheduler" in err
+    assert not (tmp_path / "out").exists()          # nothing ran: no folder left behind
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--scheduler", "notanaddress"], "notanaddress: --scheduler: expected a Dask scheduler address such as"),
+    (["--workers", "100000"], "--workers: expected 1 to"),
+])
+def test_malformed_scheduler_or_too_many_workers_is_one_line_and_leaves_nothing(tmp_path, capsys, extra, message):
+    path = write_files(tmp_path, runs=1, duration=0.05)
+    assert main(["sweep", str(path), "-o", str(tmp_path / "out"), *extra]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
+    assert not (tmp_path / "out").exists()

@@ -12,10 +12,12 @@ from __future__ import annotations
 import io
 import logging
 import os
+import re
+import shutil
 import time
 import uuid
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +29,10 @@ QUANTILES = (0.05, 0.5, 0.95)
 CONNECT_TIMEOUT = 20.0
 """Seconds to wait for a scheduler to answer, and for it to have at least one worker."""
 WORKER_WAIT = 120.0
+WORKERS_PER_CPU = 4
+"""Most local workers per CPU (``--workers``): more only queue for the same cores."""
+_ADDRESS = re.compile(r"(?:[a-z]+://)?(?:\[[0-9a-fA-F:.]+\]|[^\s/:\[\]]+):\d{1,5}")
+"""A Dask scheduler address: ``[protocol://]host:port``, an IPv6 host in brackets."""
 
 
 def run_task(task: dict[str, Any]) -> dict[str, Any]:
@@ -108,9 +114,14 @@ def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.Path
         KeyboardInterrupt: passed on after the current row is written and the workers are shut down.
     """
     sweep = sweep_or_path if isinstance(sweep_or_path, Sweep) else load_sweep(sweep_or_path)
-    if scheduler is None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise UvmsInputError(f"expected a number of workers >= 1, found {workers!r}", path="--workers")
+    most = WORKERS_PER_CPU * (os.cpu_count() or 1)
+    if scheduler is None and (isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= most):
+        raise UvmsInputError(f"expected 1 to {most} local workers ({WORKERS_PER_CPU} per CPU), found {workers!r}",
+                             path="--workers")
+    if scheduler is not None and not _ADDRESS.fullmatch(scheduler):
+        raise UvmsInputError("expected a Dask scheduler address such as tcp://10.0.0.5:8786", scheduler, "--scheduler")
     header = columns(sweep)
+    fresh = out_dir is not None and not Path(out_dir).exists()
     store = RunStore.open(out_dir, sweep) if out_dir is not None else None
     try:
         rows: dict[str, list[str]] = dict(store.done) if store is not None else {}
@@ -121,7 +132,15 @@ def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.Path
         if progress is not None:
             progress(done, total)
         if todo:
-            with _connect(workers, scheduler) as client:
+            with ExitStack() as connection:
+                try:
+                    client = connection.enter_context(_connect(workers, scheduler))
+                except UvmsInputError:
+                    if store is not None and fresh:         # nothing was run: leave no folder behind
+                        store.close()
+                        store = None
+                        shutil.rmtree(out_dir, ignore_errors=True)
+                    raise
                 for run, outcome in _execute(client, sweep, todo):
                     cells = run_cells(sweep, run, outcome)
                     if store is not None:
