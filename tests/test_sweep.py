@@ -397,3 +397,14 @@ def test_malformed_scheduler_or_too_many_workers_is_one_line_and_leaves_nothing(
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_base_that_is_a_folder_names_the_sweep_file_and_field(tmp_path, capsys):
+    path = write_files(tmp_path, runs=1, duration=0.05)
+    data = yaml.safe_load(path.read_text())
+    data["base"] = "."
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    assert main(["sweep", str(path), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"uvms: error: {path}: base: ") and err.endswith("expected a YAML file, found a directory\n")
+    assert err.count("\n") == 1 and not (tmp_path / "out").exists()

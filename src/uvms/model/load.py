@@ -50,7 +50,8 @@ def read_yaml(path: str | os.PathLike[str]) -> Any:
     if not path.exists():
         raise UvmsInputError("no such file", str(path))
     if not path.is_file():
-        raise UvmsInputError("expected a YAML file, found a directory", str(path))
+        found = "a directory" if path.is_dir() else "something that is not a regular file"
+        raise UvmsInputError(f"expected a YAML file, found {found}", str(path))
     try:
         return yaml.load(path.read_text(encoding="utf-8"), Loader=_UniqueKeyLoader)
     except yaml.MarkedYAMLError as exc:

@@ -463,7 +463,10 @@ def sweep_from_data(data: Any, *, source: str | None = None, base_dir: str | os.
         base_path = resolve_scenario_path(candidate if candidate.exists() else spec.base)
     except UvmsInputError as exc:
         raise UvmsInputError(exc.message, source, "base") from None
-    base_data = read_yaml(base_path)
+    try:
+        base_data = read_yaml(base_path)
+    except UvmsInputError as exc:
+        raise UvmsInputError(f"{exc.source}: {exc.message}", source, "base") from None
     try:
         base = scenario_from_data(base_data, source=str(base_path), base_dir=base_path.parent,
                                   text=base_path.read_text(encoding="utf-8"), default_name=base_path.stem)
