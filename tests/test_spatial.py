@@ -100,3 +100,24 @@ def test_structured_congruence_equals_dense(rng):
         expected = out + spatial.plucker(E, r).T @ I @ spatial.plucker(E, r)
         blocks.congruence_add_plucker(E, r, I, out, np.zeros((6, 6)))
         np.testing.assert_allclose(out, expected, atol=1e-12)
+
+
+def test_vectorised_rotations_and_euler_match_the_single_sample_forms():
+    """``rotations_from_quaternions``/``euler_from_rotations`` (whole runs) against the per-sample functions,
+    on random unnormalised quaternions including pitch near +/-90 deg."""
+    from uvms.rotations import (
+        euler_from_rotation,
+        euler_from_rotations,
+        quaternion_from_euler,
+        rotation_from_quaternion,
+        rotations_from_quaternions,
+    )
+
+    rng = np.random.default_rng(11)
+    q = rng.normal(size=(200, 4)) * rng.uniform(0.5, 2.0, size=(200, 1))
+    q[:3] = [quaternion_from_euler(np.array([0.3, s * (np.pi / 2 - 1e-9), -1.0])) for s in (-1, 1, 1)]
+    R = rotations_from_quaternions(q)
+    E = euler_from_rotations(R)
+    for k in range(len(q)):
+        np.testing.assert_allclose(R[k], rotation_from_quaternion(q[k]), atol=1e-15)
+        np.testing.assert_allclose(E[k], euler_from_rotation(R[k]), atol=1e-12)

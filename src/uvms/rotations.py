@@ -60,6 +60,25 @@ def rotation_from_quaternion(q: np.ndarray) -> np.ndarray:
     ])
 
 
+def rotations_from_quaternions(q: np.ndarray) -> np.ndarray:
+    """(K, 3, 3) body-to-world rotations of (K, 4) quaternions ``[w, x, y, z]`` (normalised first): the
+    vectorised :func:`rotation_from_quaternion`, for whole recorded runs."""
+    q = np.asarray(q, dtype=float).reshape(-1, 4)
+    w, x, y, z = (q / np.linalg.norm(q, axis=1, keepdims=True)).T
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+    ], axis=1)
+
+
+def euler_from_rotations(R: np.ndarray) -> np.ndarray:
+    """(K, 3) ZYX Euler angles ``(phi, theta, psi)`` of (K, 3, 3) rotations: the vectorised
+    :func:`euler_from_rotation`."""
+    return np.stack([np.arctan2(R[:, 2, 1], R[:, 2, 2]), -np.arcsin(np.clip(R[:, 2, 0], -1.0, 1.0)),
+                     np.arctan2(R[:, 1, 0], R[:, 0, 0])], axis=1)
+
+
 def quaternion_from_euler(euler: np.ndarray) -> np.ndarray:
     """Unit quaternion of ZYX Euler angles ``(phi, theta, psi)``."""
     return quaternion_from_rotation(rotation_from_euler(euler))

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from uvms.output import atomic_write_text  # noqa: F401  (re-exported: result files are written through it)
-from uvms.rotations import euler_from_quaternion
+from uvms.rotations import euler_from_rotations, rotations_from_quaternions
 from uvms.sim.integrate import layout
 
 
@@ -59,10 +59,14 @@ class Result:
     @property
     def euler(self) -> np.ndarray:
         """(K, 3) ZYX Euler angles (roll, pitch, yaw) [rad], yaw unwrapped over time."""
-        e = np.array([euler_from_quaternion(qt) for qt in self.quaternion])
+        e = euler_from_rotations(self.rotations())
         if len(e):
             e[:, 2] = np.unwrap(e[:, 2])
         return e
+
+    def rotations(self) -> np.ndarray:
+        """(K, 3, 3) body-to-world rotations ``R`` of the samples."""
+        return rotations_from_quaternions(self.quaternion)
 
     @property
     def nu(self) -> np.ndarray:
@@ -84,11 +88,8 @@ class Result:
     def body_frame_error(self, position_ref=None) -> np.ndarray:
         """(K, 3) vehicle position error from ``position_ref`` (default: the initial position), in the
         vehicle's body axes ``R^T (p - p_ref)`` [m] (the paper's Figures 5-6)."""
-        from uvms.rotations import rotation_from_quaternion
-
         ref = self.position[0] if position_ref is None else np.asarray(position_ref, dtype=float)
-        d = self.position - ref
-        return np.array([rotation_from_quaternion(qt).T @ di for qt, di in zip(self.quaternion, d)])
+        return np.einsum("kji,kj->ki", self.rotations(), self.position - ref).reshape(-1, 3)
 
     def columns(self) -> dict[str, np.ndarray]:
         """Every labelled series as ``name -> (K,)`` (units in the names)."""

@@ -75,40 +75,24 @@ def compute_metrics(result, names: tuple[str, ...] | list[str]) -> dict[str, flo
 
 
 class _Series:
-    """Lazily derived series of a result, vectorised (``Result.columns`` converts sample by sample)."""
+    """Series of a result by name, derived series computed once."""
 
     def __init__(self, result) -> None:
         self.result = result
         self._cache: dict[str, np.ndarray] = {}
 
-    def rotations(self) -> np.ndarray:
-        """(K, 3, 3) body-to-world rotations of the quaternions ``[w, x, y, z]``."""
-        if "R" not in self._cache:
-            q = np.asarray(self.result.quaternion, dtype=float)
-            q = q / np.linalg.norm(q, axis=1, keepdims=True)
-            w, x, y, z = q.T
-            self._cache["R"] = np.stack([
-                np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
-                np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
-                np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
-            ], axis=1)
-        return self._cache["R"]
-
     def euler(self) -> np.ndarray:
         """(K, 3) ZYX Euler angles (roll, pitch, yaw) [rad], yaw unwrapped."""
         if "euler" not in self._cache:
-            R = self.rotations()
-            e = np.stack([np.arctan2(R[:, 2, 1], R[:, 2, 2]), -np.arcsin(np.clip(R[:, 2, 0], -1.0, 1.0)),
-                          np.arctan2(R[:, 1, 0], R[:, 0, 0])], axis=1)
-            e[:, 2] = np.unwrap(e[:, 2])
-            self._cache["euler"] = e
+            self._cache["euler"] = self.result.euler
         return self._cache["euler"]
 
     def body_error_xy(self) -> np.ndarray:
         """(K,) ``|[R^T (p - p0)]_xy|`` [m]."""
-        p = np.asarray(self.result.position, dtype=float)
-        d = np.einsum("kji,kj->ki", self.rotations(), p - p[0])
-        return np.hypot(d[:, 0], d[:, 1])
+        if "body_xy" not in self._cache:
+            d = self.result.body_frame_error()
+            self._cache["body_xy"] = np.hypot(d[:, 0], d[:, 1])
+        return self._cache["body_xy"]
 
     def get(self, name: str) -> np.ndarray:
         """A series by its :meth:`Result.columns` name or signal name (``KeyError`` if the run has none)."""
