@@ -25,7 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output directory (default: sweeps/<sweep name>); an earlier run of the same sweep "
                              "there is resumed")
     parser.add_argument("--workers", metavar="N", type=int, default=None,
-                        help="local worker processes, one thread each (default: the number of CPUs)")
+                        help="local worker processes, one thread each (default: the number of CPUs; at most 4 per CPU)")
     parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
                         help="use the Dask scheduler at ADDRESS (e.g. tcp://10.0.0.5:8786) and its workers "
                              "instead of local ones")

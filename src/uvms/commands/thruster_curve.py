@@ -14,9 +14,10 @@ MAX_POINTS = 1000
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--step", type=float, default=3.0, metavar="VOLTS",
-                        help="voltage spacing of the table, from -Vmax to +Vmax (default: 3)")
+                        help="voltage spacing of the table, from -Vmax to +Vmax: Vmax/1000 to Vmax (default: 3)")
     parser.add_argument("--plot", metavar="FILE.png", default=None,
-                        help="save a figure of the thrust curve and of step responses at a few voltages")
+                        help="save a figure (.png, .pdf, .svg or .jpg) of the thrust curve and of step responses at a few "
+                             "voltages")
 
 
 def run(args: argparse.Namespace) -> int:
