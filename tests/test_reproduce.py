@@ -71,15 +71,19 @@ def test_refuses_to_overwrite_an_unrelated_folder(tmp_path, capsys):
     (tmp_path / "notes.txt").write_text("mine")
     assert main(["reproduce", "paper", "-o", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "not empty" in err[0]
+    assert len(err) == 1 and "uvms did not write (notes.txt" in err[0]
     assert [p.name for p in tmp_path.iterdir()] == ["notes.txt"]
 
 
 @pytest.mark.slow
-def test_rerun_replaces_the_previous_reproduction_whole(reproduced):
+def test_rerun_replaces_the_previous_reproduction_whole_but_not_a_users_file(reproduced, capsys):
     out, _ = reproduced
-    (out / "stale.txt").write_text("from an older run")
+    (out / "stale.txt").write_text("a user's file")
+    assert main(["reproduce", "paper", "-o", str(out), "--no-comparison"]) == 2
+    assert "uvms did not write (stale.txt)" in capsys.readouterr().err
+    assert (out / "stale.txt").exists() and (out / "comparison.csv").exists()
+    (out / "stale.txt").unlink()
     assert main(["reproduce", "paper", "-o", str(out), "--no-comparison"]) == 0
     names = {p.name for p in out.iterdir()}
-    assert "stale.txt" not in names and "comparison.csv" not in names and "metrics.json" in names
+    assert "comparison.csv" not in names and "metrics.json" in names
     assert not [p for p in out.parent.iterdir() if p.name.startswith(f".{out.name}.")]    # no temporary left

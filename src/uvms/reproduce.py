@@ -18,15 +18,13 @@ from __future__ import annotations
 import base64
 import json
 import math
-import shutil
-import tempfile
 import time as _time
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
-from uvms.output import atomic_write_text, replace_directory
+from uvms.output import atomic_write_text, staged_directory
 
 PAPER_LAMBDA = 3.14
 """Sliding-surface bandwidth lambda [1/s] (appendix)."""
@@ -254,29 +252,16 @@ def paper(out_dir="reproduce-paper", *, actuators: str = "ideal", compare: bool 
     """
     wall0 = _time.perf_counter()
     final = _check_output(Path(out_dir))
-    final.parent.mkdir(parents=True, exist_ok=True)
-    out = Path(tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent))
-    try:
+    with staged_directory(final, kind="reproduction") as out:
         metrics = _reproduce_into(out, actuators, compare, progress, wall0)
-        replace_directory(out, final)
-    except BaseException:
-        shutil.rmtree(out, ignore_errors=True)
-        raise
     return metrics
 
 
 def _check_output(out: Path) -> Path:
-    """The output folder may be new, empty, or a previous reproduction (it is then replaced as a whole)."""
-    from uvms.errors import UvmsInputError
+    """The output folder may be new, empty, or an earlier reproduction holding nothing else (then replaced whole)."""
     from uvms.output import check_destination
 
     out = out.resolve()
-    if out.exists():
-        if not out.is_dir():
-            raise UvmsInputError("exists and is not a folder", str(out))
-        if any(out.iterdir()) and not (out / "metrics.json").exists():
-            raise UvmsInputError("folder is not empty and holds no earlier reproduction (metrics.json); "
-                                 "choose another -o", str(out))
     check_destination(out, "--output", kind="replaced folder")
     return out
 

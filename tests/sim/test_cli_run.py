@@ -84,7 +84,10 @@ def test_missing_scenario_file_exits_2(tmp_path, capsys):
 def test_good_run_writes_results(short_run):
     out, code, stdout, stderr, path = short_run
     assert code == 0, stderr
-    assert sorted(p.name for p in out.iterdir()) == ["result.csv", "result.json", "scenario.yaml"]
+    assert sorted(p.name for p in out.iterdir()) == [".uvms-output.json", "result.csv", "result.json",
+                                                     "scenario.yaml"]
+    assert json.loads((out / ".uvms-output.json").read_text())["files"] == ["result.csv", "result.json",
+                                                                             "scenario.yaml"]
     assert sorted(p.name for p in out.parent.iterdir()) == ["case.yaml", "out"]  # no temporary leftovers
     table = pd.read_csv(out / "result.csv")
     expected = ["t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "p_rad_s", "q_rad_s", "r_rad_s",
@@ -101,22 +104,36 @@ def test_good_run_writes_results(short_run):
     assert stderr == ""
 
 
-def test_rerun_replaces_a_previous_run_but_not_other_directories(tmp_path, capsys):
+def test_rerun_replaces_a_previous_run_but_never_a_folder_holding_other_files(tmp_path, capsys):
     path = write_scenario(tmp_path, lambda d: d.update(duration=0.01))
     out = tmp_path / "out"
     assert main(["run", str(path), "-o", str(out)]) == 0
-    (out / "stale.txt").write_text("from an earlier run")
+    (out / "result.csv").write_text("an older table")              # uvms's own file: replaced by the rerun
     assert main(["run", str(path), "-o", str(out)]) == 0
-    assert not (out / "stale.txt").exists() and (out / "result.json").exists()
+    assert (out / "result.csv").read_text() != "an older table" and (out / "result.json").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["case.yaml", "out"]
 
-    precious = tmp_path / "precious"
-    precious.mkdir()
-    (precious / "notes.txt").write_text("keep me")
+    (out / "stale.txt").write_text("the user's notes, written into an earlier run")
+    (out / "figures").mkdir()
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
     capsys.readouterr()
-    assert main(["run", str(path), "-o", str(precious)]) == 2
-    assert "is not a uvms run directory" in capsys.readouterr().err
-    assert sorted(p.name for p in precious.iterdir()) == ["notes.txt"]
+    assert main(["run", str(path), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "2 entries that uvms did not write (figures, stale.txt)" in err
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()} == before
+
+    for name, files in {"precious": {"notes.txt": "keep me"},
+                        "lookalike": {"result.json": "{}", "notes.txt": "precious"},
+                        "thesis": {"metrics.json": "{}", "thesis.tex": "\\documentclass"}}.items():
+        folder = tmp_path / name
+        folder.mkdir()
+        for file, text in files.items():
+            (folder / file).write_text(text)
+        capsys.readouterr()
+        assert main(["run", str(path), "-o", str(folder)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "uvms did not write" in err and str(folder) in err
+        assert {p.name: p.read_text() for p in folder.iterdir()} == files
 
 
 def test_diverging_run_exits_3_and_saves_an_incomplete_result(tmp_path, capsys):

@@ -9,9 +9,7 @@ half-written ``DIR``. A diverging run still saves what it computed (``"complete"
 from __future__ import annotations
 
 import argparse
-import shutil
 import sys
-import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -35,11 +33,15 @@ def run(args: argparse.Namespace) -> int:
     """Validate, simulate, save atomically, summarise; 0 on success, 3 when the simulation diverged."""
     from rich.console import Console
 
-    from uvms.output import atomic_write_text, replace_directory
+    from uvms.output import atomic_write_text, staged_directory
     from uvms.sim.scenario import load_scenario, run_scenario
 
     scenario = load_scenario(args.scenario)
-    out = Path(args.output) if args.output else Path("runs") / scenario.name
+    if args.output == "":
+        from uvms.errors import UvmsInputError
+
+        raise UvmsInputError("expected a folder name, found an empty string", None, "--output")
+    out = Path(args.output) if args.output is not None else Path("runs") / scenario.name
     _check_output(out)
 
     progress = _Progress(scenario.name)
@@ -48,14 +50,9 @@ def run(args: argparse.Namespace) -> int:
     finally:
         progress.close()
 
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
-    try:
+    with staged_directory(out, kind="run") as tmp:
         result.save(tmp)
         atomic_write_text(tmp / "scenario.yaml", scenario.text)
-        replace_directory(tmp, out)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
 
     console = Console()
     console.print(_summary_table(result, scenario.name))
@@ -69,15 +66,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _check_output(out: Path) -> None:
-    """Refuse an output path that is a file, or a non-empty directory that is not a previous run."""
+    """Refuse an output path that holds anything but an earlier uvms run, or that contains the working folder."""
     from uvms.errors import UvmsInputError
     from uvms.output import check_destination
 
-    if out.exists() and not out.is_dir():
-        raise UvmsInputError("expected a directory, found a file", str(out), "--output")
-    if out.is_dir() and any(out.iterdir()) and not (out / "result.json").exists():
-        raise UvmsInputError("exists and is not a uvms run directory (no result.json); choose another directory",
-                             str(out), "--output")
     if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
         raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
                              "--output")

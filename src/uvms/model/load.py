@@ -8,14 +8,12 @@ reused for other input files (scenarios).
 from __future__ import annotations
 
 import os
-import re
 import types
 import typing
 from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-import yaml
 from pydantic import BaseModel, ValidationError
 from pydantic_core import ErrorDetails
 
@@ -24,42 +22,9 @@ from uvms.errors import UvmsInputError
 from uvms.model.build import build_model
 from uvms.model.model import Model
 from uvms.model.schema import UNION_TAGS, ModelSpec, show
+from uvms.safe_yaml import read_yaml  # noqa: F401  (re-exported: scenario and sweep files use it)
 
 _MODELS = files("uvms.model") / "models"
-
-
-class _UniqueKeyLoader(yaml.SafeLoader):
-    """Safe YAML loader that rejects a key repeated in one mapping (PyYAML silently keeps the last)."""
-
-    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
-        keys = [self.construct_object(key, deep=deep) for key, _ in node.value]
-        for i, key in enumerate(keys):
-            if key in keys[:i]:
-                mark = node.value[i][0].start_mark
-                raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", mark)
-        return super().construct_mapping(node, deep=deep)
-
-
-_UniqueKeyLoader.add_implicit_resolver(   # YAML 1.2 floats without a dot (1e2, -3E-4): PyYAML's YAML 1.1 reads strings
-    "tag:yaml.org,2002:float", re.compile(r"^[-+]?[0-9][0-9_]*[eE][-+]?[0-9]+$"), list("-+0123456789"))
-
-
-def read_yaml(path: str | os.PathLike[str]) -> Any:
-    """Parse a YAML file (safe loader, duplicate keys rejected); errors become one-line input errors."""
-    path = Path(path)
-    if not path.exists():
-        raise UvmsInputError("no such file", str(path))
-    if not path.is_file():
-        found = "a directory" if path.is_dir() else "something that is not a regular file"
-        raise UvmsInputError(f"expected a YAML file, found {found}", str(path))
-    try:
-        return yaml.load(path.read_text(encoding="utf-8"), Loader=_UniqueKeyLoader)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else None
-        raise UvmsInputError(f"invalid YAML: {exc.problem or exc.context}", str(path), where) from None
-    except (yaml.YAMLError, UnicodeDecodeError, OSError) as exc:
-        raise UvmsInputError(f"cannot read YAML: {exc}", str(path)) from None
 
 
 def _leaves(annotation: Any) -> list[Any]:

@@ -10,6 +10,7 @@ positive semi-definite. :func:`uvms.model.load.format_validation_error` turns a 
 from __future__ import annotations
 
 import math
+import reprlib
 from typing import Annotated, Any, Literal
 
 import numpy as np
@@ -39,9 +40,14 @@ def fail(message: str, subpath: str = "") -> PydanticCustomError:
     return PydanticCustomError("uvms", "{message}", {"message": message, "subpath": subpath})
 
 
+_bounded_repr = reprlib.Repr()   # renders a few items of a user value: a message never renders an unbounded one
+_bounded_repr.maxlevel, _bounded_repr.maxstring, _bounded_repr.maxother, _bounded_repr.maxlong = 3, 80, 80, 40
+_bounded_repr.maxlist = _bounded_repr.maxtuple = _bounded_repr.maxdict = _bounded_repr.maxset = 8
+
+
 def show(value: Any, limit: int = 60) -> str:
     """A short one-line rendering of a user value for error messages."""
-    text = " ".join(repr(value).split())
+    text = " ".join(_bounded_repr.repr(value).split())
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
