@@ -39,17 +39,55 @@ def _prune(base: Path, keep: Path, max_age_s: float = 7 * 86400.0) -> None:
             pass
 
 
+def _writable(folder: Path) -> str | None:
+    """``None`` when files can be created in ``folder`` (creating it if needed), else the reason why not.
+
+    A real probe, not ``os.access``: a read-only file system refuses even root."""
+    import tempfile
+
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(dir=folder, prefix=".probe-")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    return None
+
+
+def _temporary_folder() -> Path:
+    """A private folder for this process's compiled kernels, removed at exit (no cache kept between runs)."""
+    import atexit
+    import shutil
+    import tempfile
+
+    folder = Path(tempfile.mkdtemp(prefix="uvms-numba-"))
+    atexit.register(shutil.rmtree, folder, ignore_errors=True)
+    return folder
+
+
 def configure() -> None:
-    """Point numba's cache at ``<cache home>/uvms/numba-<fingerprint>`` unless the user chose a folder."""
+    """Point numba's cache at ``<cache home>/uvms/numba-<fingerprint>`` unless the user chose a folder.
+
+    When that folder cannot be written (a read-only home, a service account), the kernels are compiled into a
+    temporary folder for this process only, with one warning line on stderr: every command still works, it
+    just compiles again next time.
+    """
     if os.environ.get("NUMBA_CACHE_DIR"):
         return
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "uvms"
     folder = base / f"numba-{_fingerprint(Path(__file__).parent)}"
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError:
-        return
-    _prune(base, keep=folder)
+    reason = _writable(folder)
+    if reason is None:
+        _prune(base, keep=folder)
+    else:
+        try:
+            folder = _temporary_folder()
+        except OSError:
+            return   # no writable temporary folder either: numba's own default (next to the sources)
+        sys.stderr.write(f"uvms: warning: cannot write the compiled-kernel cache {base}"
+                         f" ({reason}); compiling for this run only (set NUMBA_CACHE_DIR to a writable folder "
+                         "to keep the compiled kernels)\n")
     os.environ["NUMBA_CACHE_DIR"] = str(folder)
     if "numba" in sys.modules:
         from numba.core import config

@@ -5,6 +5,19 @@ Light on purpose (no third-party imports): :mod:`uvms.cli` imports it before any
 
 from __future__ import annotations
 
+import reprlib
+from typing import Any
+
+_bounded_repr = reprlib.Repr()   # a few items of a user value: a message never renders an unbounded one
+_bounded_repr.maxlevel, _bounded_repr.maxstring, _bounded_repr.maxother, _bounded_repr.maxlong = 3, 80, 80, 40
+_bounded_repr.maxlist = _bounded_repr.maxtuple = _bounded_repr.maxdict = _bounded_repr.maxset = 8
+
+
+def show(value: Any, limit: int = 60) -> str:
+    """A short one-line rendering of a user value for error messages (at most ``limit`` characters)."""
+    text = " ".join(_bounded_repr.repr(value).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
 
 class UvmsInputError(ValueError):
     """Invalid user input (model or scenario file, command-line value).

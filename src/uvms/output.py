@@ -126,6 +126,19 @@ def _write_marker(folder: Path, kind: str) -> None:
         indent=1) + "\n")
 
 
+def record_written(path) -> None:
+    """Add ``path``, a file uvms just wrote, to the :data:`MARKER` of the uvms folder it lies in (a figure that
+    ``uvms plot`` draws into a run folder), so that the folder may still be replaced by a rerun."""
+    path = Path(path).absolute()
+    folder = path.parent
+    listed = _listed(folder)
+    if listed is None or path.name in listed:
+        return
+    data = json.loads((folder / MARKER).read_text(encoding="utf-8"))
+    data["files"] = sorted(listed | {path.name})
+    atomic_write_text(folder / MARKER, json.dumps(data, indent=1) + "\n")
+
+
 def replace_directory(tmp: Path, final: Path, *, kind: str, option: str = "--output") -> None:
     """Put a finished temporary folder in place in one rename, swapping out an older uvms folder at ``final``.
 

@@ -28,8 +28,13 @@ _FORCE_AXES = {"command_X": "X (surge)", "command_Y": "Y (sway)", "command_Z": "
 _MOMENT_AXES = {"command_K": "K (roll)", "command_M": "M (pitch)", "command_N": "N (yaw)"}
 
 
+def literal(text: str) -> str:
+    """``text`` drawn as written: a ``$`` in a run or signal name is not taken as the start of mathtext."""
+    return text.replace("$", r"\$")
+
+
 def _style(ax: Axes, title: str, ylabel: str, xlabel: str = "time t [s]") -> Axes:
-    ax.set_title(title)
+    ax.set_title(literal(title))
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.4)
@@ -114,14 +119,14 @@ def plot_signals(ax: Axes, table, names: list[str], *, title: str = "Controller 
                  ylabel: str = "value [signal units]", strip: str = "") -> Axes:
     """Named signal columns against time (``strip`` removed from the labels; at most 10 labelled)."""
     for k, c in enumerate(names):
-        ax.plot(table["t_s"], table[c], label=c.removeprefix(strip) if k < 10 else None)
+        ax.plot(table["t_s"], table[c], label=literal(c.removeprefix(strip)) if k < 10 else None)
     return _style(ax, title, ylabel)
 
 
 def plot_sliding_variables(ax: Axes, table, names: list[str]) -> Axes:
     """Sliding variables ``s_<axis>`` and, when logged as ``Phi``, the boundary layer +/-Phi (dashed)."""
     for c in names:
-        ax.plot(table["t_s"], table[c], label=c)
+        ax.plot(table["t_s"], table[c], label=literal(c))
     if "Phi" in table.columns and table["Phi"].notna().any():
         for sign in (1, -1):
             ax.plot(table["t_s"], sign * table["Phi"], "--", color="black", linewidth=0.8,
@@ -192,7 +197,7 @@ def timeseries_figure(table, *, title: str | None = None) -> Figure:
     for ax in axes[len(panels):]:
         ax.set_visible(False)
     if title:
-        fig.suptitle(title, fontsize="large")
+        fig.suptitle(literal(title), fontsize="large")
     return fig
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 NAME = "plot"
@@ -19,51 +18,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read the run's table, draw it, save the figure."""
+    from uvms.output import record_written
     from uvms.plots import check_figure_path, save_figure, timeseries_figure
+    from uvms.sim.result import load_result_summary, load_result_table
 
     directory = Path(args.directory)
-    table = _read_table(directory)
+    table = load_result_table(directory)
+    summary = load_result_summary(directory)
     output = check_figure_path(args.output if args.output else directory / "timeseries.png", "--output")
-    fig = timeseries_figure(table, title=_title(directory))
+    fig = timeseries_figure(table, title=_title(summary, directory))
     save_figure(fig, output)
+    record_written(output)
     print(f"figure saved to {output}")
     return 0
 
 
-def _read_table(directory: Path):
-    """``result.csv`` of a run as a DataFrame; a missing or unreadable table is an input error."""
-    import pandas as pd
-
-    from uvms.errors import UvmsInputError
-
-    path = directory / "result.csv"
-    if not directory.is_dir():
-        raise UvmsInputError("no such run directory", str(directory))
-    if not path.is_file():
-        raise UvmsInputError("no result.csv here (write one with 'uvms run SCENARIO -o DIR')", str(directory))
-    try:
-        table = pd.read_csv(path)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError, OSError) as exc:
-        raise UvmsInputError(f"cannot read the table: {' '.join(str(exc).split())}", str(path)) from None
-    required = ("t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "ee_x_m", "ee_y_m")
-    missing = [c for c in required if c not in table.columns]
-    if missing or table.empty:
-        what = f"missing columns {', '.join(missing)}" if missing else "no rows"
-        raise UvmsInputError(f"not a uvms result table: {what}", str(path))
-    return table
-
-
-def _title(directory: Path) -> str:
-    """Scenario name and completeness from ``result.json`` (the directory name if there is none)."""
-    try:
-        summary = json.loads((directory / "result.json").read_text())
-    except (OSError, ValueError):
-        return directory.name
-    meta = summary.get("metadata", {})
+def _title(summary: dict, directory: Path) -> str:
+    """Scenario name and completeness from the run's summary (the folder name if there is none)."""
+    meta = summary.get("metadata") or {}
     name = meta.get("scenario") or directory.name
-    parts = [name, f"{meta.get('vehicle', '')} vehicle".strip() if meta.get("vehicle") else "",
+    parts = [name, f"{meta['vehicle']} vehicle" if meta.get("vehicle") else "",
              f"controller {meta['controller']}" if meta.get("controller") else "control off"]
     title = ", ".join(p for p in parts if p)
-    if not summary.get("complete", True):
-        title += f"\nINCOMPLETE: {summary.get('message', '')}"
+    if summary.get("complete") is False:
+        title += f"\nINCOMPLETE: {summary.get('message') or ''}"
     return title

@@ -10,7 +10,6 @@ positive semi-definite. :func:`uvms.model.load.format_validation_error` turns a 
 from __future__ import annotations
 
 import math
-import reprlib
 from typing import Annotated, Any, Literal
 
 import numpy as np
@@ -28,6 +27,7 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
+from uvms.errors import show  # noqa: F401  (one renderer of user values; re-exported)
 from uvms.spatial import inertia_about_com
 
 RELATIVE_TOLERANCE = 1e-9
@@ -38,17 +38,6 @@ on the triangle-inequality boundary: diag(0, 0.0016, 0.0016) about the CoM)."""
 def fail(message: str, subpath: str = "") -> PydanticCustomError:
     """A validation error with a complete message; ``subpath`` (e.g. ``"diagonal"``) extends the field path."""
     return PydanticCustomError("uvms", "{message}", {"message": message, "subpath": subpath})
-
-
-_bounded_repr = reprlib.Repr()   # renders a few items of a user value: a message never renders an unbounded one
-_bounded_repr.maxlevel, _bounded_repr.maxstring, _bounded_repr.maxother, _bounded_repr.maxlong = 3, 80, 80, 40
-_bounded_repr.maxlist = _bounded_repr.maxtuple = _bounded_repr.maxdict = _bounded_repr.maxset = 8
-
-
-def show(value: Any, limit: int = 60) -> str:
-    """A short one-line rendering of a user value for error messages."""
-    text = " ".join(_bounded_repr.repr(value).split())
-    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _is_number(x: Any) -> bool:

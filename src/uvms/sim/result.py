@@ -15,6 +15,7 @@ import numpy as np
 
 from uvms.output import atomic_write_text  # noqa: F401  (re-exported: result files are written through it)
 from uvms.rotations import euler_from_rotations, rotations_from_quaternions
+from uvms.errors import UvmsInputError, show
 from uvms.sim.integrate import layout
 
 
@@ -168,8 +169,58 @@ def _json_default(obj):
     return str(obj)
 
 
+PLOTTED_COLUMNS = ("t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "ee_x_m", "ee_y_m")
+"""Columns every saved run's table has (what ``uvms plot`` needs at the least)."""
+
+_SUMMARY_TYPES = {"complete": bool, "message": str, "metadata": dict}
+_METADATA_TYPES = {"scenario": str, "vehicle": str, "controller": str}
+
+
 def load_result_table(directory, name: str = "result"):
-    """Read a saved run's CSV back as a pandas DataFrame."""
+    """A saved run's ``<name>.csv`` as a pandas DataFrame of numbers, checked: a missing, damaged or foreign
+    table is a one-line :class:`~uvms.errors.UvmsInputError` naming the file, and the column and row."""
     import pandas as pd
 
-    return pd.read_csv(Path(directory) / f"{name}.csv")
+    directory = Path(directory)
+    path = directory / f"{name}.csv"
+    if not directory.is_dir():
+        raise UvmsInputError("no such run directory", str(directory))
+    if not path.is_file():
+        raise UvmsInputError(f"no {name}.csv here (write one with 'uvms run SCENARIO -o DIR')", str(directory))
+    try:
+        table = pd.read_csv(path)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError, OSError) as exc:
+        raise UvmsInputError(f"cannot read the table: {' '.join(str(exc).split())[:200]}", str(path)) from None
+    missing = [c for c in PLOTTED_COLUMNS if c not in table.columns]
+    if missing or table.empty:
+        what = f"missing columns {', '.join(missing)}" if missing else "no rows"
+        raise UvmsInputError(f"not a uvms result table: {what}", str(path))
+    for column in table.columns:
+        values = table[column]
+        if pd.api.types.is_bool_dtype(values) or not pd.api.types.is_numeric_dtype(values):
+            numbers = pd.to_numeric(values, errors="coerce")
+            row = int(numbers.isna().to_numpy().nonzero()[0][0]) if numbers.isna().any() else 0
+            raise UvmsInputError(f"expected numbers, found {show(values.iloc[row])} in row {row + 1}",
+                                 str(path), f"column {show(column)}")
+    return table
+
+
+def load_result_summary(directory, name: str = "result") -> dict:
+    """A saved run's ``<name>.json`` (``{}`` when there is none), checked: what is there has the types
+    :meth:`Result.summary` writes, else a one-line :class:`~uvms.errors.UvmsInputError` naming the field."""
+    path = Path(directory) / f"{name}.json"
+    if not path.exists():
+        return {}
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise UvmsInputError(f"cannot read: {' '.join(str(exc).split())[:200]}", str(path)) from None
+    if not isinstance(summary, dict):
+        raise UvmsInputError(f"expected a mapping, found {show(summary)}", str(path))
+    for fields, where, prefix in ((_SUMMARY_TYPES, summary, ""), (_METADATA_TYPES, summary.get("metadata", {}),
+                                                                   "metadata.")):
+        for key, kind in fields.items():
+            if key in where and where[key] is not None and not isinstance(where[key], kind):
+                raise UvmsInputError(f"expected {kind.__name__}, found {show(where[key])}", str(path),
+                                     prefix + key)
+    return summary

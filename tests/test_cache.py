@@ -1,0 +1,48 @@
+"""The compiled-kernel cache folder (``uvms._cache``): every command works when it cannot be written."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from uvms import _cache
+
+
+def test_an_unwritable_cache_falls_back_to_a_temporary_folder_with_one_warning(tmp_path, monkeypatch, capsys):
+    from numba.core import config
+
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(blocker / "cache"))       # a read-only home behaves the same
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setattr(config, "CACHE_DIR", config.CACHE_DIR)
+    _cache.configure()
+    folder = Path(os.environ["NUMBA_CACHE_DIR"])
+    assert folder.is_dir() and folder.name.startswith("uvms-numba-") and config.CACHE_DIR == str(folder)
+    assert _cache._writable(folder) is None
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("uvms: warning: cannot write the compiled-kernel cache")
+
+
+def test_a_writable_cache_home_is_used_silently(tmp_path, monkeypatch, capsys):
+    from numba.core import config
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setattr(config, "CACHE_DIR", config.CACHE_DIR)
+    _cache.configure()
+    assert Path(os.environ["NUMBA_CACHE_DIR"]).parent == tmp_path / "uvms"
+    assert capsys.readouterr().err == ""
+
+
+def test_a_command_runs_with_an_unwritable_cache(tmp_path):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("x")
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(blocker / "cache")
+    proc = subprocess.run([sys.executable, "-m", "uvms", "validate", "paper"], capture_output=True, text=True,
+                          env=env, timeout=120)
+    assert proc.returncode == 0 and "net buoyancy" in proc.stdout
+    assert proc.stderr.count("uvms: warning:") == 1 and "Traceback" not in proc.stderr
