@@ -91,3 +91,17 @@ def test_every_command_refuses_an_alias_bomb_with_one_line(tmp_path, command):
     assert proc.stderr.count("\n") == 1 and "aliases expand" in proc.stderr and str(path) in proc.stderr
     assert not (tmp_path / "out").exists()
     assert time.perf_counter() - start < 30   # the process start-up dominates; an expansion never ends
+
+
+@pytest.mark.parametrize("content", ["secret-token-123456\n", "- secret-token-123456\n- b\n", "123456789\n",
+                                     "\n"])
+def test_a_model_path_pointing_at_any_file_echoes_the_path_not_the_content(tmp_path, content):
+    from uvms.sim.scenario import load_scenario
+
+    private = tmp_path / "private.txt"
+    private.write_text(content)
+    scenario = tmp_path / "scenario.yaml"
+    scenario.write_text(f"name: s\nmodel: {private}\nduration: 0.1\nstep: 0.001\n")
+    with pytest.raises(UvmsInputError, match="is this a uvms file|empty file") as info:
+        load_scenario(scenario)
+    assert str(private) in str(info.value) and "secret" not in str(info.value) and "123456" not in str(info.value)

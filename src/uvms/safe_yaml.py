@@ -143,3 +143,21 @@ def read_yaml(path: str | os.PathLike[str]) -> Any:
     except UnicodeDecodeError as exc:
         raise UvmsInputError(f"not UTF-8 text (byte {exc.start}): expected a YAML file", str(path)) from None
     return parse_yaml(text, str(path))
+
+
+def _kind(value: Any) -> str:
+    """What a value is, in words, without rendering it (a file read by mistake may hold anything)."""
+    if value is None:
+        return "an empty file"
+    kinds = {str: "a line of text", list: "a list", bool: "true or false", int: "a number", float: "a number"}
+    return next((name for kind, name in kinds.items() if isinstance(value, kind)), type(value).__name__)
+
+
+def read_yaml_mapping(path: str | os.PathLike[str], what: str) -> dict[Any, Any]:
+    """Read a YAML file that must hold a mapping of ``what`` (``"model fields"``...) at the top level; otherwise
+    one line that says what was found, never the file's content (the path may name any file)."""
+    data = read_yaml(path)
+    if not isinstance(data, dict):
+        raise UvmsInputError(f"expected a mapping of {what} at the top level, found {_kind(data)}: "
+                             "is this a uvms file?", str(path))
+    return data

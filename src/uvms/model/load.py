@@ -22,7 +22,7 @@ from uvms.errors import UvmsInputError
 from uvms.model.build import build_model
 from uvms.model.model import Model
 from uvms.model.schema import UNION_TAGS, ModelSpec, show
-from uvms.safe_yaml import read_yaml  # noqa: F401  (re-exported: scenario and sweep files use it)
+from uvms.safe_yaml import read_yaml, read_yaml_mapping  # noqa: F401  (read_yaml re-exported)
 
 _MODELS = files("uvms.model") / "models"
 
@@ -124,10 +124,7 @@ def load_model_spec(name_or_path: str | os.PathLike[str]) -> tuple[ModelSpec, st
     """The validated :class:`ModelSpec` of a bundled name or a path, and the file it came from."""
     path = resolve_model_path(name_or_path)
     source = str(path)
-    data = read_yaml(path)
-    if not isinstance(data, dict):
-        found = "an empty file" if data is None else show(data)
-        raise UvmsInputError(f"expected a mapping of model fields at the top level, found {found}", source)
+    data = read_yaml_mapping(path, "model fields")
     try:
         return ModelSpec.model_validate(data), source
     except ValidationError as exc:

@@ -40,7 +40,8 @@ from pydantic_core import PydanticCustomError
 
 from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
-from uvms.model.load import bundled_models, load_model, read_yaml, validation_input_error
+from uvms.model.load import bundled_models, load_model, validation_input_error
+from uvms.safe_yaml import read_yaml_mapping
 from uvms.model.model import Model
 from uvms.model.schema import fail, show
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
@@ -451,7 +452,7 @@ def load_scenario(name_or_path: str | os.PathLike[str]) -> Scenario:
             torque or joint vectors of the wrong length, unknown controller (one-line message).
     """
     path = resolve_scenario_path(name_or_path)
-    data = read_yaml(path)
+    data = read_yaml_mapping(path, "scenario fields")
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:  # pragma: no cover - read_yaml read it a moment ago
@@ -465,9 +466,6 @@ def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | 
     (default: the working directory). ``text`` (default: a YAML dump of ``data``) is hashed and kept."""
     import yaml
 
-    if not isinstance(data, dict):
-        found = "an empty file" if data is None else show(data)
-        raise UvmsInputError(f"expected a mapping of scenario fields at the top level, found {found}", source)
     try:
         spec = ScenarioSpec.model_validate(data)
     except ValidationError as exc:
