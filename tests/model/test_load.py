@@ -161,3 +161,18 @@ def test_missing_file_or_name(tmp_path):
         load_model(tmp_path / "missing.yaml")
     with pytest.raises(UvmsInputError, match="found a directory"):
         load_model(tmp_path)
+
+
+@pytest.mark.parametrize("parameters, field", [
+    ("{foo: 1}", "thrusters[0].parameters.foo: unknown healey parameter"),
+    ("{time_constant: 0.1}", "thrusters[0].parameters.time_constant: unknown healey parameter"),
+    ("{max_voltage: -24}", "thrusters[0].parameters"),
+])
+def test_thruster_parameter_errors_name_the_file(tmp_path, parameters, field):
+    text = (files("uvms.model") / "models" / "paper.yaml").read_text()
+    line = next(ln for ln in text.splitlines() if ln.strip().startswith("- {name: surge_port"))
+    path = tmp_path / "thr.yaml"
+    path.write_text(text.replace(line, line.replace("model: healey}", f"model: healey, parameters: {parameters}}}")))
+    with pytest.raises(UvmsInputError) as info:
+        load_model(path)
+    assert str(info.value).startswith(f"{path}: {field}")

@@ -138,4 +138,9 @@ def load_model(name_or_path: str | os.PathLike[str]) -> Model:
         UvmsInputError: missing file, YAML syntax error or invalid content (one-line message).
     """
     spec, source = load_model_spec(name_or_path)
-    return build_model(spec, source)
+    try:
+        return build_model(spec, source)
+    except UvmsInputError as exc:   # checks made while building (thruster parameters...) name the file too
+        if exc.source is not None:
+            raise
+        raise UvmsInputError(exc.message, source, exc.path) from None
