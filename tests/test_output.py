@@ -141,3 +141,10 @@ def test_write_errors_name_the_users_path_not_a_temporary_one(tmp_path, monkeypa
         atomic_write_text(tmp_path / "table.json", "x")
     assert info.value.filename == str(tmp_path / "table.json") and info.value.errno == errno.ENOSPC
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.skipif(not Path("/proc/self").exists(), reason="needs Linux's /proc")
+@pytest.mark.parametrize("kind", ["file", "replaced folder"])
+def test_a_file_system_that_refuses_new_files_is_caught_before_any_work(kind):
+    with pytest.raises(UvmsInputError, match="/proc refuses new files"):
+        check_destination("/proc/uvms-out", "--output", kind=kind)   # os.access says yes to root here

@@ -214,3 +214,10 @@ def check_destination(path, option: str, *, kind: str) -> None:
         raise UvmsInputError(f"cannot be created: {where} is a file, not a folder", str(path), option)
     if not os.access(where, os.W_OK | os.X_OK):
         raise UvmsInputError(f"cannot be written: no permission to write in {where}", str(path), option)
+    try:   # a real probe: a read-only or virtual file system (/proc, /sys) refuses even root, whom os.access lets by
+        fd, probe = tempfile.mkstemp(prefix=".uvms-probe-", dir=where)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise UvmsInputError(f"cannot be written: {where} refuses new files ({exc.strerror or exc})", str(path),
+                             option) from None
