@@ -1,6 +1,6 @@
 """Orientation: ZYX Euler angles, rotation matrices and unit quaternions.
 
-Conventions (``shared/conventions.md``): world frame x north, y east, z down; ``R`` is the rotation from
+Conventions (``docs/conventions.md``): world frame x north, y east, z down; ``R`` is the rotation from
 body to world, ``R = Rz(psi) Ry(theta) Rx(phi)`` (the paper's Eq. 1 ``T1``). Quaternions are ``[w, x, y, z]``
 (scalar first), unit norm, with ``R(q)`` the same body-to-world rotation. The orientation is integrated as a
 quaternion: Eq. 1's Euler-rate map ``T2`` is singular at ``theta = +/-90 deg``.

@@ -1,7 +1,7 @@
 """Slotine's per-axis sliding-mode law (paper Section 5, Eqs. 24-30; Slotine & Li 1991), shared by the
 ``smc-ab``, ``smc-ne`` and ``smc-vehicle`` controllers, which differ only in how they predict ``f_hat``.
 
-Axes: surge, sway, yaw (``shared/conventions.md``, "Sliding-mode controller"). For a constant desired pose
+Axes: surge, sway, yaw (``docs/conventions.md``, "Sliding-mode controller"). For a constant desired pose
 ``(p_d, psi_d)``, the errors and their exact time derivatives (from ``R_dot = R [omega x]`` and Eq. 1's
 ``T2``) are::
 
@@ -176,7 +176,7 @@ def axis_kinematics(state, position_desired: np.ndarray, yaw_desired: float) -> 
 
 @dataclass(frozen=True)
 class SlidingModeParameters:
-    """Parameters of the sliding-mode controllers (defaults: the paper's values, ``shared/conventions.md``)."""
+    """Parameters of the sliding-mode controllers (defaults: the paper's values, ``docs/conventions.md``)."""
 
     bandwidth: float = parameter(3.14, positive, "lambda [1/s]: the sliding surface s = vel + lambda e")
     eta: float = parameter(0.5, positive, "reaching rate eta [m/s^2, rad/s^2]: d|s|/dt <= -eta outside the layer")

@@ -18,7 +18,7 @@ def cylinder_added_mass(density: float, radius: float, length: float) -> np.ndar
     """Strip-theory added mass of a cylinder along x from 0 to ``length``, about its end (the joint).
 
     Each strip ``dl`` at ``l`` has 2D added mass ``m_a' = rho pi r^2`` for motion normal to the axis and none
-    along it (Patel 1989; ``shared/conventions.md``). Integrating the strip kinetic energy
+    along it (Patel 1989; ``docs/conventions.md``). Integrating the strip kinetic energy
     ``0.5 m_a' |v_n(l)|^2``, ``v_n(l) = [0, v_y + w_z l, v_z - w_y l]``, gives ``[angular; linear]``::
 
         I_A[wy,wy] = I_A[wz,wz] = m_a' L^3 / 3      I_A[vy,vy] = I_A[vz,vz] = m_a' L

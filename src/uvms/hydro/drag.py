@@ -7,7 +7,7 @@ Vehicle, translation (Eq. 3), per body axis ``j``::
 
 Vehicle, rotation (Eq. 4): the vehicle is a cube of side ``a``; strips parallel to the rotation axis at
 distance ``x`` from it move at ``omega x``; each slice counted once and both perpendicular slice families
-summed (``shared/conventions.md``)::
+summed (``docs/conventions.md``)::
 
     M_j = -2 * 0.5 rho Cd a * int_{-a/2}^{a/2} x^2 |x| dx * omega_j |omega_j| = -(rho Cd a^5 / 32) omega_j |omega_j|
 

@@ -1,6 +1,6 @@
 """Schema of a model YAML file (pydantic v2); ``models/paper.yaml`` is the annotated example.
 
-SI units throughout; spatial 6-vectors and 6x6 matrices are ``[angular; linear]`` (``shared/conventions.md``).
+SI units throughout; spatial 6-vectors and 6x6 matrices are ``[angular; linear]`` (``docs/conventions.md``).
 Every model is frozen and forbids unknown keys. Besides shapes and signs, the physics is checked here:
 rotational inertia about the centre of mass must be symmetric positive semi-definite and satisfy the
 triangle inequality on its principal moments, and every added-mass matrix (paper Eq. 2) must be symmetric

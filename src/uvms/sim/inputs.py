@@ -46,7 +46,7 @@ class TorqueSchedule:
 
 def paper_torques() -> TorqueSchedule:
     """Section 6: ``tau = [2.5, 0, 0]`` N m for ``t < 2`` s, then ``[0.01, 0, 0]`` N m (decimal comma read as
-    2.5, ``shared/conventions.md``)."""
+    2.5, ``docs/conventions.md``)."""
     return TorqueSchedule(times=np.array([0.0, 2.0]), torques=np.array([[2.5, 0.0, 0.0], [0.01, 0.0, 0.0]]))
 
 

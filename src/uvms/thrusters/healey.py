@@ -30,7 +30,7 @@ flow angle at equilibrium is a constant ``theta*`` (root of ``0.5 f(theta) = dbe
 ``V = (Ke + Ra Kf / Kt) Omega + (Ra k_Q / Kt) Omega |Omega|`` is a quadratic in ``Omega``. Both directions
 (voltage -> thrust, thrust -> inflow -> speed -> voltage) are explicit.
 
-Default parameters (``shared/conventions.md``; the paper gives none) give 51.80 N at 24 V, 16.03 N at 12 V
+Default parameters (``docs/conventions.md``; the paper gives none) give 51.80 N at 24 V, 16.03 N at 12 V
 and a 63 % thrust rise time of 31.3 ms after a 24 V step from rest. Near zero thrust the response is
 slower: the slow (duct) pole goes to zero with the speed, so a 1 V step rises in 33.5 ms, overshoots by 65 %
 and settles in about 250 ms (time constant). The largest stable explicit RK4 step is 30.1 ms, set by the full-thrust
@@ -70,7 +70,7 @@ thrust of a 24 V step response from rest is then within 0.06 % of full scale (``
 
 @dataclass(frozen=True)
 class HealeyParameters:
-    """Parameters of one Healey thruster (SI units; defaults from ``shared/conventions.md``).
+    """Parameters of one Healey thruster (SI units; defaults from ``docs/conventions.md``).
 
     Attributes:
         radius: propeller radius ``R`` [m].
@@ -273,7 +273,7 @@ def voltage_for_thrust(params: HealeyParameters, T: float | np.ndarray) -> float
     """Steady-state voltage [V] giving thrust ``T`` [N], clipped to ``+/-Vmax``.
 
     Thrust -> inflow ``U = sign(T) sqrt(|T| / (rho A dbeta))`` -> speed ``Omega = U / (0.7 R tan theta*)`` ->
-    voltage from the motor balance (``shared/conventions.md``). Accepts a scalar or an array.
+    voltage from the motor balance (``docs/conventions.md``). Accepts a scalar or an array.
     """
     p = params.as_array()
     c = steady_coefficients(params)
