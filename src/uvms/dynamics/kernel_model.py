@@ -1,6 +1,6 @@
 """Flat arrays of a :class:`~uvms.model.Model` for the compiled kernels, and their preallocated workspace.
 
-Built once per model (:func:`kernel_model_from`); the kernels never allocate (no allocation in the inner loop).
+Built once per model (:func:`kernel_model_from`); the kernels never allocate (workspaces are made once per run).
 Body 0 is the vehicle, bodies 1..n the links; index 0 of per-joint arrays is unused padding so that
 body ``i`` and joint ``i`` share an index, as in Featherstone's ``model.parent(i)``.
 """
