@@ -19,7 +19,7 @@ x axis from the joint (``l = 0``) to ``L``; only the velocity normal to the axis
 
 ``|v_n|`` has a kink where ``v_n`` passes through (or near) zero; the integral is split at the point of
 smallest ``|v_n|`` and each piece integrated with 8-point Gauss-Legendre (within 1e-4 of an adaptive
-reference, ``tests/hydro/test_drag.py``).
+reference, ``tests/hydro/test_added_mass_drag.py``).
 """
 
 from __future__ import annotations
