@@ -13,6 +13,8 @@ from typing import Callable
 
 import numpy as np
 
+from uvms import checks
+
 
 @dataclass(frozen=True)
 class TorqueSchedule:
@@ -22,12 +24,12 @@ class TorqueSchedule:
     torques: np.ndarray    # (K, n) [N m]
 
     def __post_init__(self) -> None:
-        t = np.asarray(self.times, dtype=float).reshape(-1)
-        tau = np.atleast_2d(np.asarray(self.torques, dtype=float))
-        if tau.shape[0] != t.size or t.size == 0:
-            raise ValueError("torque schedule: one row of torques per time")
-        if t[0] != 0.0 or np.any(np.diff(t) <= 0):
-            raise ValueError("torque schedule: times must start at 0 and increase")
+        t = checks.vector(self.times, None, "times", " [s]")
+        one_row = isinstance(self.torques, np.ndarray | list | tuple) and np.ndim(self.torques[:1]) == 1
+        tau = checks.matrix([self.torques] if one_row else self.torques, t.size, None, "torques",
+                            " [N m] (one row per time)")
+        if t.size == 0 or t[0] != 0.0 or np.any(np.diff(t) <= 0):
+            raise checks.fail("times", "expected times that start at 0 and increase")
         object.__setattr__(self, "times", t)
         object.__setattr__(self, "torques", tau)
 
@@ -57,6 +59,15 @@ class CurrentTable:
     times: np.ndarray          # (K,)
     velocity: np.ndarray       # (K, 3)
     acceleration: np.ndarray   # (K, 3)
+
+    def __post_init__(self) -> None:
+        t = checks.vector(self.times, None, "times", " [s]")
+        if t.size == 0 or np.any(np.diff(t) <= 0):
+            raise checks.fail("times", "expected at least one time, increasing")
+        for name, unit in (("velocity", "m/s"), ("acceleration", "m/s^2")):
+            object.__setattr__(self, name, checks.matrix(getattr(self, name), t.size, 3, name,
+                                                         f" [{unit}] (one row per time)"))
+        object.__setattr__(self, "times", t)
 
     @classmethod
     def constant(cls, velocity, acceleration=(0.0, 0.0, 0.0)) -> "CurrentTable":
