@@ -1,6 +1,6 @@
 """Orientation: ZYX Euler angles, rotation matrices and unit quaternions.
 
-Conventions (``shared/conventions.md``): world frame x north, y east, z down; ``R`` is the rotation from
+Conventions (``docs/conventions.md``): world frame x north, y east, z down; ``R`` is the rotation from
 body to world, ``R = Rz(psi) Ry(theta) Rx(phi)`` (the paper's Eq. 1 ``T1``). Quaternions are ``[w, x, y, z]``
 (scalar first), unit norm, with ``R(q)`` the same body-to-world rotation. The orientation is integrated as a
 quaternion: Eq. 1's Euler-rate map ``T2`` is singular at ``theta = +/-90 deg``.
@@ -21,11 +21,27 @@ def rotation_from_euler(euler: np.ndarray) -> np.ndarray:
     return rotz(psi) @ roty(theta) @ rotx(phi)
 
 
+GIMBAL_LOCK_COS = 1e-13
+"""At ``cos(theta) = hypot(R[2, 1], R[2, 2])`` below this (pitch within ~1e-13 rad of +/-90 deg) roll and yaw
+are not separable (only ``psi -/+ phi`` is defined) and the two entries are round-off: roll is set to 0 and the
+whole rotation about z goes into yaw (``docs/conventions.md``, "Euler angles at +/-90 deg of pitch"). Small
+enough that ``R(euler(R)) == R`` to 1e-13 on either side of it."""
+
+
 def euler_from_rotation(R: np.ndarray) -> np.ndarray:
-    """ZYX Euler angles ``(phi, theta, psi)`` of ``R``; ``theta`` in [-pi/2, pi/2], others in (-pi, pi]."""
-    theta = -math.asin(min(max(float(R[2, 0]), -1.0), 1.0))
-    phi = math.atan2(float(R[2, 1]), float(R[2, 2]))
-    psi = math.atan2(float(R[1, 0]), float(R[0, 0]))
+    """ZYX Euler angles ``(phi, theta, psi)`` of ``R``; ``theta`` in [-pi/2, pi/2], others in (-pi, pi].
+
+    Roll first, from ``R[2, 1:] = cos(theta) (sin(phi), cos(phi))``; then pitch and yaw from
+    ``R Rx(phi)^T = Rz(psi) Ry(theta)`` (whose column 1 is ``(-sin(psi), cos(psi), 0)``), so the three angles
+    reproduce ``R`` to round-off even near +/-90 deg of pitch, where roll alone is ill-conditioned. At gimbal
+    lock (:data:`GIMBAL_LOCK_COS`) roll is 0 and yaw holds the whole rotation about z.
+    """
+    r20, r21, r22 = float(R[2, 0]), float(R[2, 1]), float(R[2, 2])
+    c_theta = math.hypot(r21, r22)
+    phi = math.atan2(r21, r22) if c_theta >= GIMBAL_LOCK_COS else 0.0
+    s, c = math.sin(phi), math.cos(phi)
+    theta = math.atan2(-r20, c_theta)
+    psi = math.atan2(float(R[0, 2]) * s - float(R[0, 1]) * c, float(R[1, 1]) * c - float(R[1, 2]) * s)
     return np.array([phi, theta, psi])
 
 
@@ -74,9 +90,14 @@ def rotations_from_quaternions(q: np.ndarray) -> np.ndarray:
 
 def euler_from_rotations(R: np.ndarray) -> np.ndarray:
     """(K, 3) ZYX Euler angles ``(phi, theta, psi)`` of (K, 3, 3) rotations: the vectorised
-    :func:`euler_from_rotation`."""
-    return np.stack([np.arctan2(R[:, 2, 1], R[:, 2, 2]), -np.arcsin(np.clip(R[:, 2, 0], -1.0, 1.0)),
-                     np.arctan2(R[:, 1, 0], R[:, 0, 0])], axis=1)
+    :func:`euler_from_rotation` (same formulas, same gimbal-lock branch)."""
+    R = np.asarray(R, dtype=float).reshape(-1, 3, 3)
+    c_theta = np.hypot(R[:, 2, 1], R[:, 2, 2])
+    phi = np.where(c_theta >= GIMBAL_LOCK_COS, np.arctan2(R[:, 2, 1], R[:, 2, 2]), 0.0)
+    s, c = np.sin(phi), np.cos(phi)
+    theta = np.arctan2(-R[:, 2, 0], c_theta)
+    psi = np.arctan2(R[:, 0, 2] * s - R[:, 0, 1] * c, R[:, 1, 1] * c - R[:, 1, 2] * s)
+    return np.stack([phi, theta, psi], axis=1)
 
 
 def quaternion_from_euler(euler: np.ndarray) -> np.ndarray:
