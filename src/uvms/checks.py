@@ -211,5 +211,5 @@ def check_joint_axis_inertia(mass, com, inertia_com, added_mass, *, source: str 
     for j in np.flatnonzero(~(axis > JOINT_INERTIA_RELATIVE * scale)):
         raise UvmsInputError(
             "expected a positive rotational inertia about the joint axis (z, through the joint origin: "
-            f"I_zz + m (x_c^2 + y_c^2) + added-mass I_A[2,2]), found {axis[j]:.6g} kg m^2: the joint could not "
-            "be accelerated (its articulated inertia would be zero)", source, where(int(j)))
+            f"I_zz + m (x_c^2 + y_c^2) + added-mass I_A[2,2]), found {axis[j]:.6g} kg m^2 (the dynamics divide "
+            "by each joint's inertia about its axis)", source, where(int(j)))
