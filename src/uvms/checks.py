@@ -127,13 +127,15 @@ def flag(value: Any, name: str) -> bool:
     raise fail(name, f"expected True or False, got {show(value)}")
 
 
-def number(value: Any, name: str, *, positive: bool = False, unit: str = "") -> float:
-    """A finite real number (``> 0`` if ``positive``) as a float; booleans and strings are refused."""
-    expected = ("a positive, finite number" if positive else "a finite number") + (f" [{unit}]" if unit else "")
+def number(value: Any, name: str, *, positive: bool = False, nonnegative: bool = False, unit: str = "") -> float:
+    """A finite real number (``> 0`` if ``positive``, ``>= 0`` if ``nonnegative``) as a float; booleans and
+    strings are refused."""
+    expected = ("a positive, finite number" if positive else "a finite number >= 0" if nonnegative
+                else "a finite number") + (f" [{unit}]" if unit else "")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (Real, np.integer, np.floating)):
         raise fail(name, f"expected {expected}, got {show(value)}")
     x = float(value)
-    if not math.isfinite(x) or (positive and x <= 0.0):
+    if not math.isfinite(x) or (positive and x <= 0.0) or (nonnegative and x < 0.0):
         raise fail(name, f"expected {expected}, got {x!r}")
     return x
 

@@ -13,9 +13,13 @@ import pytest
 
 import uvms
 from uvms import checks
+from uvms.dynamics.api import environment
 from uvms.dynamics.energy import kinetic_energy, potential_energy, spatial_momentum
+from uvms.hydro.added_mass import cylinder_added_mass
+from uvms.hydro.drag import box_rotational_drag_by_strips, box_rotational_drag_coefficient
 from uvms.errors import UvmsInputError
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
+from uvms.sim.integrate import pack, unpack
 from uvms.sim.run import Actuation, check_steps
 
 
@@ -121,6 +125,28 @@ def _calls(paper, state):
          [(None, "None"), (3, "3"), (["paper"], "a list")]),
         ("Actuation.named", lambda name: Actuation.named(name), "name", [(3, "3"), (["ideal"], "a list")]),
         ("check_steps", lambda duration: check_steps(duration, 1e-3), "duration", [("1", "a string"), (-1, "-1")]),
+        ("CurrentTable.from_function", lambda **kw: CurrentTable.from_function(**{
+            "velocity": lambda t: [0.1, 0.0, 0.0], "duration": 1.0, "step": 0.1, **kw}), "velocity",
+         [("x", "a string"), (lambda t: [0.1, 0.0], "shape (2,)"), (lambda t: [np.nan, 0, 0], "nan")]),
+        ("CurrentTable.from_function", lambda **kw: CurrentTable.from_function(**{
+            "velocity": lambda t: [0.1, 0.0, 0.0], "duration": 1.0, "step": 0.1, **kw}), "step",
+         [(0.0, "0.0"), ("0.1", "a string")]),
+        ("CurrentTable.from_velocity_table", lambda **kw: CurrentTable.from_velocity_table(**{
+            "times": [0.0, 1.0], "velocity": [[0.1, 0, 0], [0.2, 0, 0]], "duration": 1.0, "step": 0.1, **kw}),
+         "velocity", [([[0.1, 0, 0]], "shape (1, 3)"), ([[0.1, 0], [0.2, 0]], "shape (2, 2)")]),
+        ("environment", lambda model: environment(model), "model", [("paper", "a string")]),
+        ("environment", lambda current: environment(paper, current=current), "current", BAD_3),
+        ("pack", lambda state: pack(state), "state", [("s", "a string"), (np.zeros(19), "an array")]),
+        ("unpack", lambda x: unpack(x, 3), "x", [(np.zeros(18), "shape (18,)"), ([0.0] * 19, "a list"),
+                                                  (np.zeros((1, 19)), "shape (1, 19)")]),
+        ("cylinder_added_mass", lambda **kw: cylinder_added_mass(**{"density": 1000.0, "radius": 0.01,
+                                                                    "length": 0.2, **kw}), "radius",
+         [(-0.01, "-0.01"), ("0.01", "a string"), (np.nan, "nan"), (None, "None")]),
+        ("box_rotational_drag_coefficient", lambda **kw: box_rotational_drag_coefficient(**{
+            "density": 1000.0, "drag_coefficient": 1.0, "side": 0.6, **kw}), "side", [(-1.0, "-1.0"), ("a", "a str")]),
+        ("box_rotational_drag_by_strips", lambda **kw: box_rotational_drag_by_strips(**{
+            "density": 1000.0, "drag_coefficient": 1.0, "side": 0.6, "omega": 1.0, **kw}), "n_strips",
+         [(0, "0"), (2.5, "2.5"), (True, "True")]),
     ]
 
 

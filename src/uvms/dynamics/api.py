@@ -84,6 +84,7 @@ class Environment:
 
 def environment(model, current=None, fluid_acceleration=None) -> Environment:
     """The model's environment, with per-call overrides."""
+    checks.model(model)
     return Environment(_vec(current, 3, "current", " (world frame, m/s)", model.current),
                        _vec(fluid_acceleration, 3, "fluid_acceleration", " (world frame, m/s^2)",
                             model.fluid_acceleration))

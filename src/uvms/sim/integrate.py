@@ -37,12 +37,22 @@ def layout(n_joints: int, n_actuator: int) -> dict[str, slice]:
 
 def pack(state) -> np.ndarray:
     """``x`` of a :class:`~uvms.state.State`."""
+    if not isinstance(state, State):
+        from uvms.checks import fail, show
+
+        raise fail("state", f"expected a uvms State, got {show(state)}")
     return np.concatenate([state.position, state.quaternion, state.nu, state.q, state.qd, state.actuator])
 
 
 def unpack(x: np.ndarray, n_joints: int):
     """The :class:`~uvms.state.State` of ``x`` (one copy of ``x``; the fields are read-only views of it)."""
     n = n_joints
+    if type(n) is not int and not isinstance(n, np.integer) or n < 0 or not isinstance(x, np.ndarray) \
+            or x.ndim != 1 or x.size < 13 + 2 * n or x.dtype.kind != "f":
+        from uvms.checks import fail, show
+
+        raise fail("x", f"expected a float state vector of at least 13 + 2 n values for n_joints = {n!r} "
+                        f"(uvms.sim.integrate layout), got {show(x)}")
     c = x.copy()
     c.flags.writeable = False
     return State.trusted(c[0:3], c[3:7], c[7:13], c[13:13 + n], c[13 + n:13 + 2 * n], c[13 + 2 * n:])
