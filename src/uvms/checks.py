@@ -82,7 +82,8 @@ def vector(value: Any, size: int | None, name: str, what: str = "") -> np.ndarra
         raise fail(name, f"expected {expected}, got {found}")
     if a.ndim != 1 or (size is not None and a.shape[0] != size):
         raise fail(name, f"expected {expected}, got shape {a.shape}")
-    a = np.array(a, dtype=np.float64)        # a copy: the caller's array is never aliased
+    if a.dtype is not _FLOAT64 or not isinstance(value, (list, tuple)):
+        a = np.array(a, dtype=np.float64)    # a copy: the caller's array is never aliased (a list's is new)
     total = sum(a.tolist())                  # NaN or inf in, NaN or inf out (or a finite sum overflowing)
     if total - total != 0.0:
         bad = np.flatnonzero(~np.isfinite(a))
