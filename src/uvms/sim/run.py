@@ -40,9 +40,6 @@ second. The cut does not change the arithmetic: every call continues the same st
 FIRST_CHUNK_STEPS = 64
 """Steps of the first compiled RK4 call of a run; later calls are sized from the measured cost."""
 
-_ADAPTIVE_METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
-"""The ``scipy.integrate.solve_ivp`` methods ``simulate(integrator=...)`` accepts besides ``"rk4"``."""
-
 
 @dataclass(frozen=True)
 class Actuation:
@@ -163,9 +160,9 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     duration = float(duration)
     n = model.n_joints
     state = State.zero(model) if initial_state is None else checks.state(model, initial_state, "initial_state")
-    integrator, fixed_base, joint_torques, current, control_period, record_period, rtol, atol, bounds = _checked(
-        model, integrator, fixed_base, joint_torques, current, controller, actuation, control_period, record_period,
-        rtol, atol, bounds, progress, metadata)
+    integrator, fixed_base, joint_torques, current, control_period, record_period, rtol, atol, bounds = \
+        checks.simulate_arguments(model, integrator, fixed_base, joint_torques, current, controller, actuation,
+                                  control_period, record_period, rtol, atol, bounds, progress, metadata)
     actuation = actuation or Actuation()
     act = actuator_kernel(actuation.thrusters)
     n_act = n_actuator_states(act)
@@ -332,52 +329,6 @@ def check_steps(duration: float, step: float) -> int:
         raise checks.fail("step", f"expected 1 to {MAX_STEPS:.0e} steps of {step:g} s in {duration:g} s, "
                                   f"found {n:.3g}")
     return int(round(n))
-
-
-def _checked(model, integrator, fixed_base, joint_torques, current, controller, actuation, control_period,
-             record_period, rtol, atol, bounds, progress, metadata) -> tuple:
-    """:func:`simulate`'s arguments checked at the boundary (one-line :class:`~uvms.errors.UvmsInputError` naming
-    the argument), normalised: ``(integrator, fixed_base, joint_torques, current, control_period,
-    record_period, rtol, atol, bounds)``. A callable's outputs are checked when it is called."""
-    n = model.n_joints
-    if not isinstance(integrator, str):
-        raise checks.fail("integrator", f"expected 'rk4' or a solve_ivp method, got {checks.show(integrator)}")
-    known = {m.lower(): m for m in ("rk4", *_ADAPTIVE_METHODS)}
-    if integrator.lower() not in known:
-        raise checks.fail("integrator", f"expected 'rk4' or one of {', '.join(_ADAPTIVE_METHODS)}, "
-                                        f"got {integrator!r}")
-    integrator = known[integrator.lower()]
-    fixed_base = checks.flag(fixed_base, "fixed_base")
-    if isinstance(joint_torques, TorqueSchedule):
-        if joint_torques.torques.shape[1] != n:
-            raise checks.fail("joint_torques", f"expected a schedule of {n} torques per row (one per joint: the "
-                                               f"model has {n} joints), got {joint_torques.torques.shape[1]}")
-        if not np.all(np.isfinite(joint_torques.torques)):
-            raise checks.fail("joint_torques", "expected a schedule of finite torques, got NaN or infinity")
-    elif joint_torques is not None and not callable(joint_torques):
-        joint_torques = checks.vector(joint_torques, n, "joint_torques", " (one per joint)")
-    if not (current is None or isinstance(current, CurrentTable) or callable(current)):
-        current = checks.vector(current, 3, "current", " (world frame, m/s)")
-    if controller is not None and not callable(getattr(controller, "update", None)):
-        raise checks.fail("controller", f"expected None or a controller with update(measurement), "
-                                        f"got {checks.show(controller)}")
-    if actuation is not None and not isinstance(actuation, Actuation):
-        raise checks.fail("actuation", f"expected None or an Actuation (e.g. Actuation.named('paper')), "
-                                       f"got {checks.show(actuation)}")
-    control_period = checks.optional_number(control_period, "control_period", positive=True, unit="s")
-    record_period = checks.optional_number(record_period, "record_period", positive=True, unit="s")
-    rtol = checks.number(rtol, "rtol", positive=True)
-    atol = checks.number(atol, "atol", positive=True)
-    limits = np.asarray(bounds, dtype=float) if not isinstance(bounds, (str, bytes)) and \
-        np.asarray(bounds).dtype.kind in "iuf" else None
-    if limits is None or limits.shape != (4,) or not np.all(limits > 0):
-        raise checks.fail("bounds", f"expected 4 positive limits (|position|, |nu|, |qd|, |actuator|), "
-                                    f"got {checks.show(bounds)}")
-    checks.callable_or_none(progress, "progress", "progress(t, duration)")
-    if metadata is not None and not isinstance(metadata, dict):
-        raise checks.fail("metadata", f"expected None or a dict, got {checks.show(metadata)}")
-    return (integrator, fixed_base, joint_torques, current, control_period, record_period, rtol, atol,
-            np.array(limits, dtype=float))
 
 
 def _next_chunk(steps: int, seconds: float, current: int) -> int:
