@@ -249,6 +249,12 @@ def simulate_arguments(model, integrator, fixed_base, joint_torques, current, co
         raise fail("controller", f"expected None or a controller with update(measurement), got {show(controller)}")
     if actuation is not None and not isinstance(actuation, Actuation):
         raise fail("actuation", f"expected None or an Actuation (e.g. Actuation.named('paper')), got {show(actuation)}")
+    if actuation is not None:
+        from uvms.thrusters.layouts import Thruster
+
+        thrusters = actuation.thrusters
+        if not isinstance(thrusters, tuple) or not all(isinstance(t, Thruster) for t in thrusters):
+            raise fail("actuation", f"expected thrusters that are uvms Thruster descriptions, got {show(thrusters)}")
     control_period = optional_number(control_period, "control_period", positive=True, unit="s")
     record_period = optional_number(record_period, "record_period", positive=True, unit="s")
     rtol = number(rtol, "rtol", positive=True)
