@@ -63,7 +63,8 @@ def test_at_exactly_90_degrees_roll_is_zero_and_yaw_holds_the_rotation_about_z(s
     """``Rz(psi) Ry(+pi/2) Rx(phi) = Rz(psi - phi) Ry(pi/2)`` and ``Rz(psi) Ry(-pi/2) Rx(phi) = Rz(psi + phi)
     Ry(-pi/2)``: with roll 0, yaw is ``psi - phi`` (pitch up) or ``psi + phi`` (pitch down)."""
     phi, psi = 0.3, 0.2
-    for R in (_R(phi, sign * np.pi / 2, psi), rotation_from_quaternion(quaternion_from_euler([phi, sign * np.pi / 2, psi]))):
+    e0 = [phi, sign * np.pi / 2, psi]
+    for R in (_R(*e0), rotation_from_quaternion(quaternion_from_euler(e0))):
         e = euler_from_rotation(R)
         np.testing.assert_allclose(e, [0.0, sign * np.pi / 2, psi - sign * phi], rtol=0, atol=1e-12)
         assert e[0] == 0.0

@@ -56,7 +56,8 @@ BAD_FLAG = [("yes", "a string 'yes'"), (1, "1"), (None, "None"), (np.array([True
 def _calls(paper, state):
     """``(label, call(**kwargs), argument, bad values)``: every public function and each of its arguments."""
     fd = lambda **kw: uvms.forward_dynamics(paper, state, **kw)          # noqa: E731
-    inv = lambda **kw: uvms.inverse_dynamics(paper, state, **{"nu_dot": np.zeros(6), "qdd": np.zeros(3), **kw})  # noqa: E731
+    zero = {"nu_dot": np.zeros(6), "qdd": np.zeros(3)}
+    inv = lambda **kw: uvms.inverse_dynamics(paper, state, **{**zero, **kw})  # noqa: E731
     hw = lambda **kw: uvms.hydrodynamic_wrenches(paper, state, **kw)      # noqa: E731
     sim = lambda **kw: uvms.simulate(paper, **{"duration": 0.002, **kw})  # noqa: E731
     fe = lambda **kw: uvms.State.from_euler(paper, **kw)                  # noqa: E731
@@ -210,7 +211,7 @@ def test_state_constructors_refuse_a_non_model(paper):
         uvms.State.zero(None)
     with pytest.raises(UvmsInputError, match="^colour: not a state field; expected one of: position"):
         uvms.State.zero(paper).replace(colour=[1, 2, 3])
-    with pytest.raises(UvmsInputError, match=r"^qd: expected 4 finite values \(one per joint, as q\), got shape \(3,\)"):
+    with pytest.raises(UvmsInputError, match=r"^qd: expected 4 finite values \(one per joint, as q\), got shape "):
         uvms.State.zero(paper).replace(q=np.zeros(4))
 
 

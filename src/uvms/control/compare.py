@@ -1,10 +1,10 @@
 """Controllers side by side on the paper's scenario (Section 6, case 3 "vehicle released, control on").
 
 Every case runs the same simulation: vehicle released at rest at the origin, the paper's joint torques
-(:func:`uvms.sim.inputs.paper_torques`: 2.5 N m on joint 1 for 2 s, then 0.01 N m; on an arm of any number of
-joints the other joints get none, :func:`scenario_torques`), 10 s, RK4 at 1 ms, ideal actuation (the commanded body wrench is
-applied as is), controller updated every 10 ms. The metrics are computed from the integrated states, the
-same way for every controller:
+(:func:`uvms.sim.inputs.paper_torques`: 2.5 N m on joint 1 for 2 s, then 0.01 N m; on an arm of any number
+of joints the other joints get none, :func:`scenario_torques`), 10 s, RK4 at 1 ms, ideal actuation (the
+commanded body wrench is applied as is), controller updated every 10 ms. The metrics are computed from the
+integrated states, the same way for every controller:
 
 - ``peak_xy_error_mm``: peak of ``|[R^T (p - p_0)]_xy|`` (body-frame horizontal error, Figures 5-6) [mm];
 - ``peak_yaw_error_deg``: peak ``|wrap(psi - psi_0)|`` [deg];
