@@ -173,6 +173,20 @@ def state(model_: Any, value: Any, name: str = "state"):
     return value
 
 
+def finite_result(what: str, results: tuple, inputs: dict[str, np.ndarray]) -> None:
+    """Refuse finite inputs so large that ``what`` (the kernel's ``results``) overflowed to inf or NaN: the error
+    names the input of largest magnitude (the likely culprit) instead of returning NaN silently."""
+    for r in results:
+        total = sum(r.ravel().tolist())
+        if total - total != 0.0 and not np.all(np.isfinite(r)):
+            break
+    else:
+        return
+    name, size = max(((k, float(np.max(np.abs(a)))) for k, a in inputs.items() if a.size), key=lambda kv: kv[1])
+    raise fail(name, f"expected values the dynamics can evaluate in floating point: {what} overflowed to inf or "
+                     f"NaN, with |{name}| up to {size:.3g}")
+
+
 def returned_vector(value: Any, size: int, name: str, what: str, t: float) -> np.ndarray:
     """What a user callable ``name`` returned at time ``t``, checked like :func:`vector`."""
     try:

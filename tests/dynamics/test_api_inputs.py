@@ -293,3 +293,17 @@ def test_a_schedule_for_another_joint_count_names_joint_torques(paper):
 def test_integrator_names_are_case_insensitive(paper):
     r = uvms.simulate(paper, duration=0.004, integrator="RK4")
     assert r.metadata["integrator"] == "rk4" and r.complete
+
+
+@pytest.mark.parametrize("call, culprit", [
+    (lambda m: uvms.forward_dynamics(m, uvms.State.from_euler(m, nu=[1e200] * 6)), "state.nu"),
+    (lambda m: uvms.forward_dynamics(m, uvms.State.from_euler(m, qd=[0.0, 1e200, 0.0])), "state.qd"),
+    (lambda m: uvms.forward_dynamics(m, uvms.State.zero(m), joint_torques=[1e308, 1e308, 0.0]), "joint_torques"),
+    (lambda m: uvms.forward_dynamics(m, uvms.State.zero(m), current=[1e200, 0.0, 0.0]), "current"),
+    (lambda m: uvms.inverse_dynamics(m, uvms.State.zero(m), nu_dot=[1e308] * 6, qdd=np.zeros(3)), "nu_dot"),
+    (lambda m: uvms.bias_forces(m, uvms.State.from_euler(m, nu=[0, 0, 0, 1e300, 0, 0])), "state.nu"),
+])
+def test_finite_inputs_too_large_to_evaluate_are_named_not_returned_as_nan(paper, call, culprit):
+    """Finite but huge inputs overflow inside the kernels: an error naming the largest input, never NaN."""
+    with pytest.raises(UvmsInputError, match=rf"^{culprit}: expected values the dynamics can evaluate .* overflowed"):
+        call(paper)

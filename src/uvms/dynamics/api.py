@@ -115,9 +115,14 @@ def forward_dynamics(model, state, *, joint_torques=None, body_wrench=None, ee_w
     env = environment(model, current, fluid_acceleration)
     nu_dot = np.zeros(6)
     qdd = np.zeros(n)
-    _call(aba, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd,
-          _vec(joint_torques, n, "joint_torques", _PER_JOINT), _vec(body_wrench, 6, "body_wrench", _WRENCH),
-          _vec(ee_wrench, 6, "ee_wrench", _WRENCH), env.current, env.fluid_acceleration, bool(fixed_base), nu_dot, qdd)
+    tau = _vec(joint_torques, n, "joint_torques", _PER_JOINT)
+    f_body = _vec(body_wrench, 6, "body_wrench", _WRENCH)
+    f_ee = _vec(ee_wrench, 6, "ee_wrench", _WRENCH)
+    _call(aba, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, tau, f_body, f_ee, env.current,
+          env.fluid_acceleration, bool(fixed_base), nu_dot, qdd)
+    checks.finite_result("the accelerations", (nu_dot, qdd), {
+        "state.nu": nu, "state.qd": qd, "joint_torques": tau, "body_wrench": f_body, "ee_wrench": f_ee,
+        "current": env.current, "fluid_acceleration": env.fluid_acceleration})
     return Accelerations(nu_dot=nu_dot, qdd=qdd)
 
 
@@ -129,9 +134,13 @@ def inverse_dynamics(model, state, *, nu_dot, qdd, ee_wrench=None, current=None,
     env = environment(model, current, fluid_acceleration)
     f0 = np.zeros(6)
     tau = np.zeros(n)
-    _call(rnea, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, checks.vector(nu_dot, 6, "nu_dot"),
-          checks.vector(qdd, n, "qdd", _PER_JOINT), _vec(ee_wrench, 6, "ee_wrench", _WRENCH), env.current,
+    a0, qdd, f_ee = (checks.vector(nu_dot, 6, "nu_dot"), checks.vector(qdd, n, "qdd", _PER_JOINT),
+                     _vec(ee_wrench, 6, "ee_wrench", _WRENCH))
+    _call(rnea, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, a0, qdd, f_ee, env.current,
           env.fluid_acceleration, f0, tau)
+    checks.finite_result("the wrench and torques", (f0, tau), {
+        "state.nu": nu, "state.qd": qd, "nu_dot": a0, "qdd": qdd, "ee_wrench": f_ee, "current": env.current,
+        "fluid_acceleration": env.fluid_acceleration})
     return f0, tau
 
 
