@@ -118,6 +118,11 @@ def optional_vector(value: Any, size: int, name: str, what: str = "", default: A
     own array) or zeros."""
     if value is None:
         return np.zeros(size) if default is None else np.array(default, dtype=np.float64)
+    if type(value) is np.ndarray and value.dtype is _FLOAT64 and value.shape == (size,):   # vector's fast path
+        a = value.copy()
+        total = sum(a.tolist())
+        if total - total == 0.0:
+            return a
     return vector(value, size, name, what)
 
 
@@ -164,7 +169,7 @@ def state(model_: Any, value: Any, name: str = "state"):
     """``value`` if it is a :class:`uvms.State` with the joints of ``model_`` (checked first)."""
     if not isinstance(model_, _Model):
         model(model_)
-    if not isinstance(value, _state_class()):
+    if not isinstance(value, _State or _state_class()):
         raise fail(name, f"expected a uvms State (e.g. uvms.State.from_euler(model, ...)), got {show(value)}")
     n = model_.n_joints
     if value.q.shape[0] != n:
@@ -173,18 +178,21 @@ def state(model_: Any, value: Any, name: str = "state"):
     return value
 
 
-def finite_result(what: str, results: tuple, inputs: dict[str, np.ndarray]) -> None:
-    """Refuse finite inputs so large that ``what`` (the kernel's ``results``) overflowed to inf or NaN: the error
-    names the input of largest magnitude (the likely culprit) instead of returning NaN silently."""
-    for r in results:
-        total = sum(r.ravel().tolist())
-        if total - total != 0.0 and not np.all(np.isfinite(r)):
-            break
-    else:
-        return
+def finite(*arrays: np.ndarray) -> bool:
+    """Whether every entry of the (1-D) ``arrays`` is finite; a sum of the values first (fast), exact if that
+    sum is not finite (a NaN or infinity, or finite values whose sum overflows)."""
+    total = 0.0
+    for a in arrays:
+        total += sum(a.tolist())
+    return total - total == 0.0 or all(bool(np.all(np.isfinite(a))) for a in arrays)
+
+
+def overflow(what: str, inputs: dict[str, np.ndarray]) -> UvmsInputError:
+    """The error for finite inputs so large that ``what`` overflowed to inf or NaN inside a kernel: it names the
+    input of largest magnitude (the likely culprit) instead of a NaN result being returned silently."""
     name, size = max(((k, float(np.max(np.abs(a)))) for k, a in inputs.items() if a.size), key=lambda kv: kv[1])
-    raise fail(name, f"expected values the dynamics can evaluate in floating point: {what} overflowed to inf or "
-                     f"NaN, with |{name}| up to {size:.3g}")
+    return fail(name, f"expected values the dynamics can evaluate in floating point: {what} overflowed to inf or "
+                      f"NaN, with |{name}| up to {size:.3g}")
 
 
 def returned_vector(value: Any, size: int, name: str, what: str, t: float) -> np.ndarray:
