@@ -32,6 +32,7 @@ def _state_class() -> type:
         _State = State
     return _State
 
+
 _FLOAT64 = np.dtype(np.float64)
 _NUMERIC_KINDS = "iuf"
 """numpy dtype kinds accepted as numbers: signed and unsigned integers, floats (not bool, complex, str, object)."""
