@@ -19,8 +19,13 @@ def resolve_path(name_or_path: str | os.PathLike[str], folder, kind: str) -> Pat
     """An existing file path as given, else the bundled ``kind`` (model, scenario, sweep) of that name.
 
     Raises:
-        UvmsInputError: neither (one line listing the bundled names).
+        UvmsInputError: neither (one line listing the bundled names), or not a string or path at all.
     """
+    if not isinstance(name_or_path, (str, os.PathLike)) or isinstance(os.fspath(name_or_path), bytes):
+        from uvms.checks import show
+
+        raise UvmsInputError(f"expected a file path or a bundled {kind} name, got {show(name_or_path)}",
+                             path="name_or_path")
     path = Path(name_or_path)
     if path.exists():
         return path

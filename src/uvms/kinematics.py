@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from uvms import checks
 from uvms.dynamics.passes import joint_transform
 
 
@@ -78,6 +79,7 @@ class Poses:
 
 def forward_kinematics(model, state) -> Poses:
     """World pose of the vehicle, every link frame and the end effector."""
+    checks.state(model, state)
     nb = model.n_bodies
     R = np.zeros((nb + 1, 3, 3))
     p = np.zeros((nb + 1, 3))

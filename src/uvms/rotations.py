@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 from uvms.spatial import rotx, roty, rotz
 
@@ -21,12 +22,36 @@ def rotation_from_euler(euler: np.ndarray) -> np.ndarray:
     return rotz(psi) @ roty(theta) @ rotx(phi)
 
 
+GIMBAL_LOCK_COS = 1e-13
+"""At ``cos(theta) = hypot(R[2, 1], R[2, 2])`` below this (pitch within ~1e-13 rad of +/-90 deg) roll and yaw
+are not separable (only ``psi -/+ phi`` is defined) and the two entries are round-off: roll is set to 0 and the
+whole rotation about z goes into yaw (``docs/conventions.md``, "Euler angles at +/-90 deg of pitch"). Small
+enough that ``R(euler(R)) == R`` to 1e-13 on either side of it."""
+
+
+@njit(cache=True)
+def euler_zyx(R):
+    """ZYX Euler angles ``(phi, theta, psi)`` of a 3x3 rotation ``R`` as a tuple: the one implementation, compiled
+    so that kernels call it too (:func:`euler_from_rotation` and :func:`euler_from_rotations` wrap it).
+
+    Roll first, from ``R[2, 1:] = cos(theta) (sin(phi), cos(phi))``; then pitch and yaw from
+    ``R Rx(phi)^T = Rz(psi) Ry(theta)`` (whose column 1 is ``(-sin(psi), cos(psi), 0)`` and row 2
+    ``(-sin(theta), 0, cos(theta))``), so the three angles rebuild ``R`` to round-off even near +/-90 deg of
+    pitch, where roll alone is ill-conditioned. At gimbal lock (:data:`GIMBAL_LOCK_COS`) roll is 0 and yaw holds
+    the whole rotation about z. ``theta`` in [-pi/2, pi/2], the others in [-pi, pi].
+    """
+    c_theta = math.hypot(R[2, 1], R[2, 2])
+    phi = math.atan2(R[2, 1], R[2, 2]) if c_theta >= GIMBAL_LOCK_COS else 0.0
+    s = math.sin(phi)
+    c = math.cos(phi)
+    theta = math.atan2(-R[2, 0], c_theta)
+    psi = math.atan2(R[0, 2] * s - R[0, 1] * c, R[1, 1] * c - R[1, 2] * s)
+    return phi, theta, psi
+
+
 def euler_from_rotation(R: np.ndarray) -> np.ndarray:
-    """ZYX Euler angles ``(phi, theta, psi)`` of ``R``; ``theta`` in [-pi/2, pi/2], others in (-pi, pi]."""
-    theta = -math.asin(min(max(float(R[2, 0]), -1.0), 1.0))
-    phi = math.atan2(float(R[2, 1]), float(R[2, 2]))
-    psi = math.atan2(float(R[1, 0]), float(R[0, 0]))
-    return np.array([phi, theta, psi])
+    """ZYX Euler angles ``(phi, theta, psi)`` of ``R`` [rad] (:func:`euler_zyx`; roll 0 at gimbal lock)."""
+    return np.array(euler_zyx(np.ascontiguousarray(R, dtype=np.float64)))
 
 
 def quaternion_from_rotation(R: np.ndarray) -> np.ndarray:
@@ -72,11 +97,19 @@ def rotations_from_quaternions(q: np.ndarray) -> np.ndarray:
     ], axis=1)
 
 
+@njit(cache=True)
+def _euler_rows(R, out):
+    for k in range(R.shape[0]):
+        out[k, 0], out[k, 1], out[k, 2] = euler_zyx(R[k])
+
+
 def euler_from_rotations(R: np.ndarray) -> np.ndarray:
-    """(K, 3) ZYX Euler angles ``(phi, theta, psi)`` of (K, 3, 3) rotations: the vectorised
-    :func:`euler_from_rotation`."""
-    return np.stack([np.arctan2(R[:, 2, 1], R[:, 2, 2]), -np.arcsin(np.clip(R[:, 2, 0], -1.0, 1.0)),
-                     np.arctan2(R[:, 1, 0], R[:, 0, 0])], axis=1)
+    """(K, 3) ZYX Euler angles ``(phi, theta, psi)`` of (K, 3, 3) rotations (:func:`euler_zyx` on each), for
+    whole recorded runs."""
+    R = np.ascontiguousarray(np.asarray(R, dtype=np.float64).reshape(-1, 3, 3))
+    out = np.empty((R.shape[0], 3))
+    _euler_rows(R, out)
+    return out
 
 
 def quaternion_from_euler(euler: np.ndarray) -> np.ndarray:

@@ -12,17 +12,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from uvms import checks
 from uvms.rotations import euler_from_quaternion, quaternion_from_euler, rotation_from_quaternion
 
 
-def _vector(value, size: int, name: str) -> np.ndarray:
-    a = np.array(value if value is not None else np.zeros(size), dtype=float).reshape(-1)
-    if a.shape != (size,):
-        raise ValueError(f"state.{name}: expected {size} values, got {a.size}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"state.{name}: values must be finite")
+def _vector(value, size: int | None, name: str, what: str = "") -> np.ndarray:
+    """A read-only float64 copy of ``value`` (``size`` finite values; zeros for ``None``), else a one-line
+    :class:`~uvms.errors.UvmsInputError` naming ``name``."""
+    a = checks.optional_vector(value, size, name, what) if size is not None or value is not None else np.zeros(0)
     a.setflags(write=False)
     return a
+
+
+_FIELDS = ("position", "quaternion", "nu", "q", "qd", "actuator")
 
 
 @dataclass(frozen=True, eq=False)
@@ -37,32 +39,33 @@ class State:
     actuator: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self) -> None:
-        n = np.asarray(self.q).size
-        object.__setattr__(self, "position", _vector(self.position, 3, "position"))
-        quat = _vector(self.quaternion, 4, "quaternion")
-        norm = np.linalg.norm(quat)
+        q = checks.vector(self.q, None, "q", " (one per joint)")
+        n = q.shape[0]
+        object.__setattr__(self, "position", _vector(self.position, 3, "position", " [m]"))
+        quat = checks.vector(self.quaternion, 4, "quaternion", " [w, x, y, z]")
+        norm = float(np.linalg.norm(quat))
         if not 0.5 < norm < 2.0:
-            raise ValueError("state.quaternion: expected a unit quaternion [w, x, y, z]")
+            raise checks.fail("quaternion", f"expected a unit quaternion [w, x, y, z], got norm {norm:.6g}")
         quat = quat / norm
         quat.setflags(write=False)
         object.__setattr__(self, "quaternion", quat)
-        object.__setattr__(self, "nu", _vector(self.nu, 6, "nu"))
-        object.__setattr__(self, "q", _vector(self.q, n, "q"))
-        object.__setattr__(self, "qd", _vector(self.qd, n, "qd"))
-        object.__setattr__(self, "actuator", _vector(self.actuator, np.asarray(self.actuator).size, "actuator"))
+        object.__setattr__(self, "nu", _vector(self.nu, 6, "nu", " [omega; v]"))
+        q.setflags(write=False)
+        object.__setattr__(self, "q", q)
+        object.__setattr__(self, "qd", _vector(self.qd, n, "qd", " (one per joint, as q)"))
+        object.__setattr__(self, "actuator", _vector(self.actuator, None, "actuator"))
 
     @classmethod
     def from_euler(cls, model, *, position=None, euler=None, nu=None, q=None, qd=None, actuator=None) -> "State":
         """A state from ZYX Euler angles ``(phi, theta, psi)`` [rad]; omitted values are zero."""
-        n = model.n_joints
-        euler = _vector(euler, 3, "euler")
+        n = checks.model(model).n_joints
         return cls(
-            position=_vector(position, 3, "position"),
-            quaternion=quaternion_from_euler(euler),
-            nu=_vector(nu, 6, "nu"),
-            q=_vector(q, n, "q"),
-            qd=_vector(qd, n, "qd"),
-            actuator=np.zeros(0) if actuator is None else np.asarray(actuator, dtype=float),
+            position=_vector(position, 3, "position", " [m]"),
+            quaternion=quaternion_from_euler(_vector(euler, 3, "euler", " (phi, theta, psi) [rad]")),
+            nu=_vector(nu, 6, "nu", " [omega; v]"),
+            q=_vector(q, n, "q", " (one per joint)"),
+            qd=_vector(qd, n, "qd", " (one per joint)"),
+            actuator=_vector(actuator, None, "actuator"),
         )
 
     @classmethod
@@ -100,7 +103,9 @@ class State:
 
     def replace(self, **changes) -> "State":
         """A new state with some fields changed."""
-        values = dict(position=self.position, quaternion=self.quaternion, nu=self.nu, q=self.q, qd=self.qd,
-                      actuator=self.actuator)
+        unknown = sorted(set(changes) - set(_FIELDS))
+        if unknown:
+            raise checks.fail(unknown[0], f"not a state field; expected one of: {', '.join(_FIELDS)}")
+        values = {name: getattr(self, name) for name in _FIELDS}
         values.update(changes)
         return State(**values)

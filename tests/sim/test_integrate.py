@@ -200,7 +200,7 @@ def test_sparse_records_hold_the_same_signals_as_a_full_record(paper):
                       record_period=0.007)
     rows = np.searchsorted(full.time, sparse.time - 1e-12)
     np.testing.assert_allclose(full.time[rows], sparse.time, atol=1e-12)
-    assert len(sparse.time) == 43
+    assert len(sparse.time) == 44                 # 0, 7, ..., 294 ms, and the final state at 300 ms
     np.testing.assert_array_equal(sparse.joint_torques, full.joint_torques[rows])
     for name in ("count", "odd"):
         np.testing.assert_array_equal(sparse.signals[name], full.signals[name][rows])

@@ -61,12 +61,17 @@ def run(args: argparse.Namespace) -> int:
     from rich.markup import escape
     from rich.table import Table
 
-    from uvms.control.compare import compare_controllers
+    from uvms.control.compare import compare_controllers, scenario_torques
+    from uvms.errors import UvmsInputError
     from uvms.model import load_model
     from uvms.sim.result import atomic_write_text
 
     _check(args)
     model = load_model(args.model)
+    try:
+        scenario_torques(model)                     # the scenario needs an arm: say so about --model
+    except UvmsInputError as exc:
+        raise UvmsInputError(exc.message, path="--model") from None
     console = Console(stderr=True)
     with console.status("running") as status:
         table = compare_controllers(model, duration=args.duration, step=args.step, period=args.period,

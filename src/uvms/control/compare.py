@@ -1,9 +1,10 @@
 """Controllers side by side on the paper's scenario (Section 6, case 3 "vehicle released, control on").
 
 Every case runs the same simulation: vehicle released at rest at the origin, the paper's joint torques
-(:func:`uvms.sim.inputs.paper_torques`), 10 s, RK4 at 1 ms, ideal actuation (the commanded body wrench is
-applied as is), controller updated every 10 ms. The metrics are computed from the integrated states, the
-same way for every controller:
+(:func:`uvms.sim.inputs.paper_torques`: 2.5 N m on joint 1 for 2 s, then 0.01 N m; on an arm of any number
+of joints the other joints get none, :func:`scenario_torques`), 10 s, RK4 at 1 ms, ideal actuation (the
+commanded body wrench is applied as is), controller updated every 10 ms. The metrics are computed from the
+integrated states, the same way for every controller:
 
 - ``peak_xy_error_mm``: peak of ``|[R^T (p - p_0)]_xy|`` (body-frame horizontal error, Figures 5-6) [mm];
 - ``peak_yaw_error_deg``: peak ``|wrap(psi - psi_0)|`` [deg];
@@ -103,15 +104,36 @@ def metrics(result, *, bandwidth: float = PAPER_BANDWIDTH) -> dict[str, float]:
     return out
 
 
+def scenario_torques(model):
+    """The paper's joint-torque schedule (Section 6) for ``model``'s arm: joint 1 gets the paper's torques,
+    every other joint none (the paper's own joints 2 and 3 get none either), so any arm of at least one joint
+    runs the paper's scenario; the paper's 3-joint model gets exactly :func:`~uvms.sim.inputs.paper_torques`.
+
+    Raises:
+        UvmsInputError: a model without an arm (nothing for the schedule to drive).
+    """
+    from uvms import checks
+    from uvms.sim.inputs import TorqueSchedule, paper_torques
+
+    n = checks.model(model).n_joints
+    if n == 0:
+        raise checks.fail("model", f"expected a model with an arm (the scenario drives joint 1 with the paper's "
+                                   f"torques), got {model.name!r} with 0 joints")
+    paper = paper_torques()
+    torques = np.zeros((paper.times.size, n))
+    k = min(n, paper.torques.shape[1])            # a shorter arm drops the paper's joints 2-3: zero torque
+    torques[:, :k] = paper.torques[:, :k]
+    return TorqueSchedule(times=paper.times, torques=torques)
+
+
 def run_case(model, case: Case, *, duration: float = 10.0, step: float = 1e-3, period: float = 0.01,
              hydro_scale: float | None = None, joint_torques=None, actuation=None):
     """Simulate one case of the paper scenario and return its :class:`~uvms.sim.result.Result`.
 
     ``hydro_scale`` (if given) sets the model error of the sliding-mode controllers unless the case's own
-    parameters set it; ``joint_torques`` defaults to the paper's schedule.
+    parameters set it; ``joint_torques`` defaults to the paper's schedule (:func:`scenario_torques`).
     """
     from uvms.control.registry import make_controller
-    from uvms.sim.inputs import paper_torques
     from uvms.sim.run import simulate
 
     controller = None
@@ -120,7 +142,7 @@ def run_case(model, case: Case, *, duration: float = 10.0, step: float = 1e-3, p
         if hydro_scale is not None and case.controller in SLIDING_MODE:
             parameters.setdefault("hydro_scale", hydro_scale)
         controller = make_controller(case.controller, model, period=period, parameters=parameters)
-    return simulate(model, duration=duration, step=step, joint_torques=paper_torques() if joint_torques is None
+    return simulate(model, duration=duration, step=step, joint_torques=scenario_torques(model) if joint_torques is None
                     else joint_torques, controller=controller, actuation=actuation, control_period=period,
                     metadata={"case": case.label})
 

@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from uvms.kinematics import quaternion_to_rotation
+from uvms.rotations import euler_zyx
 
 ERROR, ERROR_RATE, VELOCITY, ERROR3, RATE3, OMEGA, EULER = range(7)
 N_KINEMATICS_ROWS = 7
@@ -60,9 +61,7 @@ def axis_kinematics_into(quaternion, position, nu, position_desired, yaw_desired
     ed0 = u - (w1 * e2 - w2 * e1)                             # e_dot = v - omega x e
     ed1 = v - (w2 * e0 - w0 * e2)
     ed2 = w - (w0 * e1 - w1 * e0)
-    theta = -math.asin(min(max(R[2, 0], -1.0), 1.0))          # ZYX Euler angles of R
-    phi = math.atan2(R[2, 1], R[2, 2])
-    psi = math.atan2(R[1, 0], R[0, 0])
+    phi, theta, psi = euler_zyx(R)                            # ZYX Euler angles of R (roll 0 at gimbal lock)
     psi_dot = (math.sin(phi) * w1 + math.cos(phi) * w2) / math.cos(theta)
     rows = ((e0, e1, wrap(psi - yaw_desired)), (ed0, ed1, psi_dot), (u, v, w2), (e0, e1, e2), (ed0, ed1, ed2),
             (w0, w1, w2), (phi, theta, psi))

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from uvms import checks
 from uvms.dynamics.aba import aba
 from uvms.dynamics.crba import crba
 from uvms.dynamics.fastcall import specialised
@@ -49,13 +50,11 @@ def _call(kernel, km, *args) -> None:
     hit[1](km, *args)
 
 
-def _vec(value, size: int, name: str) -> np.ndarray:
-    if value is None:
-        return np.zeros(size)
-    a = np.array(value, dtype=float).reshape(-1)
-    if a.shape != (size,):
-        raise ValueError(f"{name}: expected {size} values, got shape {np.shape(value)}")
-    return a
+_vec = checks.optional_vector
+"""``(value, size, name)``: a fresh float64 array of ``size`` finite values (zeros for ``None``), else a one-line
+:class:`~uvms.errors.UvmsInputError` naming the argument."""
+_PER_JOINT = " (one per joint)"
+_WRENCH = " [moment; force]"
 
 
 @dataclass(frozen=True)
@@ -85,18 +84,21 @@ class Environment:
 
 def environment(model, current=None, fluid_acceleration=None) -> Environment:
     """The model's environment, with per-call overrides."""
-    vc = model.current if current is None else current
-    af = model.fluid_acceleration if fluid_acceleration is None else fluid_acceleration
-    return Environment(_vec(vc, 3, "current"), _vec(af, 3, "fluid_acceleration"))
+    return _environment(checks.model(model), current, fluid_acceleration)
+
+
+def _environment(model, current, fluid_acceleration) -> Environment:
+    return Environment(_vec(current, 3, "current", " (world frame, m/s)", model.current),
+                       _vec(fluid_acceleration, 3, "fluid_acceleration", " (world frame, m/s^2)",
+                            model.fluid_acceleration))
 
 
 def _state_arrays(model, state, fixed_base: bool):
-    n = model.n_joints
-    if state.q.size != n:
-        raise ValueError(f"state has {state.q.size} joints, the model {model.name!r} has {n}")
+    checks.state(model, state)
     nu = np.array(state.nu, dtype=float)
-    if fixed_base and np.any(nu != 0.0):
-        raise ValueError("fixed_base=True needs a vehicle at rest (state.nu == 0): a clamped vehicle does not move")
+    if fixed_base is not False and checks.flag(fixed_base, "fixed_base") and np.any(nu != 0.0):
+        raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does not "
+                                        "move")
     return (state.rotation, nu, np.array(state.q, dtype=float), np.array(state.qd, dtype=float))
 
 
@@ -113,12 +115,19 @@ def forward_dynamics(model, state, *, joint_torques=None, body_wrench=None, ee_w
     """
     R0, nu, q, qd = _state_arrays(model, state, fixed_base)
     n = model.n_joints
-    env = environment(model, current, fluid_acceleration)
+    env = _environment(model, current, fluid_acceleration)
     nu_dot = np.zeros(6)
     qdd = np.zeros(n)
-    _call(aba, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, _vec(joint_torques, n, "joint_torques"),
-        _vec(body_wrench, 6, "body_wrench"), _vec(ee_wrench, 6, "ee_wrench"), env.current,
-        env.fluid_acceleration, bool(fixed_base), nu_dot, qdd)
+    tau = _vec(joint_torques, n, "joint_torques", _PER_JOINT)
+    f_body = _vec(body_wrench, 6, "body_wrench", _WRENCH)
+    f_ee = _vec(ee_wrench, 6, "ee_wrench", _WRENCH)
+    _call(aba, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, tau, f_body, f_ee, env.current,
+          env.fluid_acceleration, bool(fixed_base), nu_dot, qdd)
+    total = sum(nu_dot.tolist()) + sum(qdd.tolist())  # any NaN or inf makes the sum one: fast test
+    if total - total != 0.0 and not checks.finite(nu_dot, qdd):
+        raise checks.overflow("the accelerations", {
+            "state.nu": nu, "state.qd": qd, "joint_torques": tau, "body_wrench": f_body, "ee_wrench": f_ee,
+            "current": env.current, "fluid_acceleration": env.fluid_acceleration})
     return Accelerations(nu_dot=nu_dot, qdd=qdd)
 
 
@@ -127,16 +136,24 @@ def inverse_dynamics(model, state, *, nu_dot, qdd, ee_wrench=None, current=None,
     """The vehicle wrench (6,) and joint torques (n,) that produce ``nu_dot`` and ``qdd`` (RNEA)."""
     R0, nu, q, qd = _state_arrays(model, state, False)
     n = model.n_joints
-    env = environment(model, current, fluid_acceleration)
+    env = _environment(model, current, fluid_acceleration)
     f0 = np.zeros(6)
     tau = np.zeros(n)
-    _call(rnea, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, _vec(nu_dot, 6, "nu_dot"),
-         _vec(qdd, n, "qdd"), _vec(ee_wrench, 6, "ee_wrench"), env.current, env.fluid_acceleration, f0, tau)
+    a0, qdd, f_ee = (checks.vector(nu_dot, 6, "nu_dot"), checks.vector(qdd, n, "qdd", _PER_JOINT),
+                     _vec(ee_wrench, 6, "ee_wrench", _WRENCH))
+    _call(rnea, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, a0, qdd, f_ee, env.current,
+          env.fluid_acceleration, f0, tau)
+    total = sum(f0.tolist()) + sum(tau.tolist())  # any NaN or inf makes the sum one: fast test
+    if total - total != 0.0 and not checks.finite(f0, tau):
+        raise checks.overflow("the wrench and torques", {
+            "state.nu": nu, "state.qd": qd, "nu_dot": a0, "qdd": qdd, "ee_wrench": f_ee, "current": env.current,
+            "fluid_acceleration": env.fluid_acceleration})
     return f0, tau
 
 
 def mass_matrix(model, state) -> np.ndarray:
     """Joint-space inertia matrix ``M`` (6+n, 6+n) of ``[nu; qd]``, added mass included (CRBA)."""
+    checks.state(model, state)
     M = np.zeros((model.n_dof, model.n_dof))
     _call(crba, model.kernel, _workspace(model.n_bodies), np.array(state.q, dtype=float), M)
     return M
@@ -144,6 +161,7 @@ def mass_matrix(model, state) -> np.ndarray:
 
 def bias_forces(model, state, *, current=None, fluid_acceleration=None) -> np.ndarray:
     """``h`` (6+n) with ``M [nu_dot; qdd] + h = [f_0; tau]``: RNEA at zero acceleration."""
+    checks.state(model, state)
     f0, tau = inverse_dynamics(model, state, nu_dot=np.zeros(6), qdd=np.zeros(model.n_joints), current=current,
                                fluid_acceleration=fluid_acceleration)
     return np.concatenate([f0, tau])

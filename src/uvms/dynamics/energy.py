@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from uvms import checks
 from uvms.dynamics.api import mass_matrix
 from uvms.dynamics.kernel_model import make_workspace
 from uvms.dynamics.passes import outward_pass
@@ -20,6 +21,7 @@ from uvms.kinematics import forward_kinematics
 
 def kinetic_energy(model, state) -> float:
     """``0.5 zeta^T M zeta`` [J], ``zeta = [nu; qd]``, added mass included."""
+    checks.state(model, state)
     z = state.generalized_velocity
     return float(0.5 * z @ mass_matrix(model, state) @ z)
 
@@ -38,6 +40,8 @@ def potential_energy(model, state) -> float:
 
 def spatial_momentum(model, state, *, include_added_mass: bool = False) -> np.ndarray:
     """``[angular; linear]`` momentum about the world origin in world axes (6,)."""
+    checks.state(model, state)
+    include_added_mass = checks.flag(include_added_mass, "include_added_mass")
     km = model.kernel
     ws = make_workspace(model.n_bodies)
     outward_pass(km, ws, state.rotation, np.array(state.nu, dtype=float), np.array(state.q, dtype=float),

@@ -27,8 +27,11 @@ def cylinder_added_mass(density: float, radius: float, length: float) -> np.ndar
     For the paper's links (r = 0.0125 m, L = 0.22 m, rho = 1000 kg/m^3): 0.1080 kg, 0.00174 kg m^2 and
     +/-0.0119 kg m, the appendix's diagonal (0.1078, 0.0017) up to rounding.
     """
-    if density < 0 or radius < 0 or length < 0:
-        raise ValueError("density, radius and length must be non-negative")
+    from uvms.checks import number
+
+    density = number(density, "density", nonnegative=True, unit="kg/m^3")
+    radius = number(radius, "radius", nonnegative=True, unit="m")
+    length = number(length, "length", nonnegative=True, unit="m")
     ma = density * np.pi * radius**2
     I_A = np.zeros((6, 6))
     I_A[1, 1] = I_A[2, 2] = ma * length**3 / 3.0

@@ -33,6 +33,11 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(GAUSS_POINTS)
 
 def box_rotational_drag_coefficient(density: float, drag_coefficient: float, side: float) -> float:
     """Closed form of Eq. 4 for a cube of side ``a``: ``rho Cd a^5 / 32`` [N m s^2] (2.52 for the paper)."""
+    from uvms.checks import number
+
+    density = number(density, "density", nonnegative=True, unit="kg/m^3")
+    drag_coefficient = number(drag_coefficient, "drag_coefficient", nonnegative=True)
+    side = number(side, "side", nonnegative=True, unit="m")
     return density * drag_coefficient * side**5 / 32.0
 
 
@@ -44,6 +49,14 @@ def box_rotational_drag_by_strips(density: float, drag_coefficient: float, side:
     rotation; each strip of area ``a dx`` at distance ``x`` feels Eq. 3's drag at speed ``omega x``.
     Returns the moment about the rotation axis [N m].
     """
+    from uvms.checks import fail, number
+
+    density = number(density, "density", nonnegative=True, unit="kg/m^3")
+    drag_coefficient = number(drag_coefficient, "drag_coefficient", nonnegative=True)
+    side = number(side, "side", nonnegative=True, unit="m")
+    omega = number(omega, "omega", unit="rad/s")
+    if isinstance(n_strips, bool) or not isinstance(n_strips, (int, np.integer)) or n_strips < 1:
+        raise fail("n_strips", f"expected a whole number >= 1, got {n_strips!r}")
     dx = side / n_strips
     x = -side / 2 + dx * (np.arange(n_strips) + 0.5)
     speed = omega * x

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from uvms import checks
 from uvms.dynamics.api import environment, forward_dynamics
 from uvms.dynamics.kernel_model import make_workspace
 from uvms.dynamics.passes import body_hydro_forces, outward_pass
@@ -54,6 +55,8 @@ class HydrodynamicWrenches:
 def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None, current=None,
                           fluid_acceleration=None, fixed_base=False) -> HydrodynamicWrenches:
     """Each body's wrench by cause at ``state`` (see the module docstring)."""
+    checks.state(model, state)
+    fixed_base = checks.flag(fixed_base, "fixed_base")
     nb = model.n_bodies
     km = model.kernel
     ws = make_workspace(nb)

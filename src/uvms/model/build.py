@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from uvms.checks import check_joint_axis_inertia
 from uvms.hydro.added_mass import cylinder_added_mass
 from uvms.model.model import Model
 from uvms.model.schema import ArmSpec, LinkSpec, ModelSpec, VehicleSpec, inertia_com
@@ -45,14 +46,19 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
     links = spec.arm.links if spec.arm is not None else ()
     bodies: list[VehicleSpec | LinkSpec] = [vehicle, *links]
     joint_rotation, joint_position, theta_offset, ee_rotation, ee_position = _joints(spec.arm)
+    mass = np.array([b.mass for b in bodies])
+    com = np.array([b.com for b in bodies]).reshape(-1, 3)
+    inertia = np.array([inertia_com(b.mass, b.com, b.inertia) for b in bodies])
+    added_mass = np.array([_added_mass(b, env.density) for b in bodies])
+    check_joint_axis_inertia(mass, com, inertia, added_mass, source=source, where=lambda j: f"arm.links[{j}].inertia")
     return Model(
         name=spec.name,
         source=source,
         body_names=("vehicle", *(link.name for link in links)),
-        mass=np.array([b.mass for b in bodies]),
-        com=np.array([b.com for b in bodies]).reshape(-1, 3),
-        inertia_com=np.array([inertia_com(b.mass, b.com, b.inertia) for b in bodies]),
-        added_mass=np.array([_added_mass(b, env.density) for b in bodies]),
+        mass=mass,
+        com=com,
+        inertia_com=inertia,
+        added_mass=added_mass,
         buoyancy_mass=np.array([b.buoyancy.mass for b in bodies]),
         cob=np.array([b.buoyancy.center for b in bodies]).reshape(-1, 3),
         vehicle_drag_area=np.array(vehicle.drag.area),

@@ -101,7 +101,11 @@ class Model:
         object.__setattr__(self, "vehicle_rotational_drag_coefficient",
                            float(self.vehicle_rotational_drag_coefficient))
         object.__setattr__(self, "density", float(self.density))
+        from uvms.checks import check_joint_axis_inertia
         from uvms.dynamics.kernel_model import kernel_model_from
+
+        check_joint_axis_inertia(self.mass, self.com, self.inertia_com, self.added_mass, source=self.source,
+                                 where=lambda j: f"link {self.body_names[j + 1]!r} (body {j + 1})")
 
         object.__setattr__(self, "kernel", kernel_model_from(self))
 

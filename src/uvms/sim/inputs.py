@@ -13,6 +13,8 @@ from typing import Callable
 
 import numpy as np
 
+from uvms import checks
+
 
 @dataclass(frozen=True)
 class TorqueSchedule:
@@ -22,12 +24,12 @@ class TorqueSchedule:
     torques: np.ndarray    # (K, n) [N m]
 
     def __post_init__(self) -> None:
-        t = np.asarray(self.times, dtype=float).reshape(-1)
-        tau = np.atleast_2d(np.asarray(self.torques, dtype=float))
-        if tau.shape[0] != t.size or t.size == 0:
-            raise ValueError("torque schedule: one row of torques per time")
-        if t[0] != 0.0 or np.any(np.diff(t) <= 0):
-            raise ValueError("torque schedule: times must start at 0 and increase")
+        t = checks.vector(self.times, None, "times", " [s]")
+        one_row = isinstance(self.torques, np.ndarray | list | tuple) and np.ndim(self.torques[:1]) == 1
+        tau = checks.matrix([self.torques] if one_row else self.torques, t.size, None, "torques",
+                            " [N m] (one row per time)")
+        if t.size == 0 or t[0] != 0.0 or np.any(np.diff(t) <= 0):
+            raise checks.fail("times", "expected times that start at 0 and increase")
         object.__setattr__(self, "times", t)
         object.__setattr__(self, "torques", tau)
 
@@ -58,6 +60,15 @@ class CurrentTable:
     velocity: np.ndarray       # (K, 3)
     acceleration: np.ndarray   # (K, 3)
 
+    def __post_init__(self) -> None:
+        t = checks.vector(self.times, None, "times", " [s]")
+        if t.size == 0 or np.any(np.diff(t) <= 0):
+            raise checks.fail("times", "expected at least one time, increasing")
+        for name, unit in (("velocity", "m/s"), ("acceleration", "m/s^2")):
+            object.__setattr__(self, name, checks.matrix(getattr(self, name), t.size, 3, name,
+                                                         f" [{unit}] (one row per time)"))
+        object.__setattr__(self, "times", t)
+
     @classmethod
     def constant(cls, velocity, acceleration=(0.0, 0.0, 0.0)) -> "CurrentTable":
         return cls(np.zeros(1), np.atleast_2d(np.asarray(velocity, dtype=float)),
@@ -67,8 +78,10 @@ class CurrentTable:
     def from_velocity_table(cls, times, velocity, duration: float, step: float) -> "CurrentTable":
         """A velocity table (linear between knots, held outside) with its exact fluid acceleration: the slope of
         each segment, zero outside the table; resampled on the integrator's half-step grid."""
-        t_k = np.asarray(times, dtype=float).reshape(-1)
-        v_k = np.asarray(velocity, dtype=float).reshape(-1, 3)
+        t_k = checks.vector(times, None, "times", " [s]")
+        v_k = checks.matrix(velocity, t_k.size, 3, "velocity", " [m/s] (one row per time)")
+        if t_k.size == 0 or np.any(np.diff(t_k) <= 0):
+            raise checks.fail("times", "expected at least one time, increasing")
         if t_k.size == 1:
             return cls.constant(v_k[0])
         slopes = np.diff(v_k, axis=0) / np.diff(t_k)[:, None]
@@ -87,10 +100,18 @@ class CurrentTable:
     def from_function(cls, velocity: Callable[[float], np.ndarray], duration: float, step: float,
                       acceleration: Callable[[float], np.ndarray] | None = None) -> "CurrentTable":
         """Sample ``velocity(t)`` on the half-step grid; the acceleration by central differences unless given."""
+        checks.callable_or_none(velocity, "velocity", "velocity(t) -> (3,)")
+        checks.callable_or_none(acceleration, "acceleration", "acceleration(t) -> (3,)")
+        duration = checks.number(duration, "duration", positive=True, unit="s")
+        step = checks.number(step, "step", positive=True, unit="s")
+        if velocity is None or duration / step > 1e8:
+            raise checks.fail("velocity" if velocity is None else "step",
+                              "expected a callable velocity(t) -> (3,)" if velocity is None
+                              else f"expected at most 1e8 samples in {duration:g} s, got step {step:g} s")
         t = np.arange(0.0, duration + step, step / 2.0)
-        v = np.array([np.asarray(velocity(ti), dtype=float).reshape(3) for ti in t])
+        v = np.array([checks.returned_vector(velocity(ti), 3, "velocity", " [m/s]", ti) for ti in t])
         if acceleration is not None:
-            a = np.array([np.asarray(acceleration(ti), dtype=float).reshape(3) for ti in t])
+            a = np.array([checks.returned_vector(acceleration(ti), 3, "acceleration", " [m/s^2]", ti) for ti in t])
         else:
             a = np.gradient(v, t, axis=0) if t.size > 1 else np.zeros_like(v)
         return cls(t, v, a)

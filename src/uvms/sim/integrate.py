@@ -37,12 +37,22 @@ def layout(n_joints: int, n_actuator: int) -> dict[str, slice]:
 
 def pack(state) -> np.ndarray:
     """``x`` of a :class:`~uvms.state.State`."""
+    if not isinstance(state, State):
+        from uvms.checks import fail, show
+
+        raise fail("state", f"expected a uvms State, got {show(state)}")
     return np.concatenate([state.position, state.quaternion, state.nu, state.q, state.qd, state.actuator])
 
 
 def unpack(x: np.ndarray, n_joints: int):
     """The :class:`~uvms.state.State` of ``x`` (one copy of ``x``; the fields are read-only views of it)."""
     n = n_joints
+    if type(n) is not int and not isinstance(n, np.integer) or n < 0 or not isinstance(x, np.ndarray) \
+            or x.ndim != 1 or x.size < 13 + 2 * n or x.dtype.kind != "f":
+        from uvms.checks import fail, show
+
+        raise fail("x", f"expected a float state vector of at least 13 + 2 n values for n_joints = {n!r} "
+                        f"(uvms.sim.integrate layout), got {show(x)}")
     c = x.copy()
     c.flags.writeable = False
     return State.trusted(c[0:3], c[3:7], c[7:13], c[13:13 + n], c[13 + n:13 + 2 * n], c[13 + 2 * n:])
@@ -137,8 +147,10 @@ def check_state(x, n, bounds):
 @njit(cache=True)
 def rk4(km, ws, act, x, t0, h, n_steps, step0, record_every, tau, f_ext, f_ee, command, env_t, env_vc, env_af,
         fixed_base, bounds, out_t, out_x, n_out):
-    """Advance ``x`` (in place) by ``n_steps`` classical RK4 steps of size ``h`` from ``t0``.
+    """Advance ``x`` (in place) by ``n_steps`` classical RK4 steps of size ``h``, from global step ``step0``.
 
+    ``t0`` is the time of global step 0: step ``k`` starts at ``t0 + k h``, the same floating-point value
+    however a run is cut into calls (a long run is integrated in several calls, :data:`uvms.sim.run.CHUNK_SECONDS`).
     Whenever the global step count ``step0 + k`` is a multiple of ``record_every`` the time and state are
     written to ``out_t[n_out]``, ``out_x[n_out]``.
     Returns ``(steps_done, n_out, code)``: ``code`` is 0, or the :func:`check_state` code of the first bad step.
@@ -155,8 +167,8 @@ def rk4(km, ws, act, x, t0, h, n_steps, step0, record_every, tau, f_ext, f_ee, c
     thrust = np.empty(max(act.kind.shape[0], 1))
     for k in range(N):
         k1[k] = k2[k] = k3[k] = k4[k] = 0.0
-    t = t0
     for step in range(n_steps):
+        t = t0 + (step0 + step) * h
         state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, command, env_t, env_vc, env_af, fixed_base, k1,
                          R, vecs, thrust)
         for k in range(N):
@@ -176,12 +188,11 @@ def rk4(km, ws, act, x, t0, h, n_steps, step0, record_every, tau, f_ext, f_ee, c
         norm = np.sqrt(x[3] ** 2 + x[4] ** 2 + x[5] ** 2 + x[6] ** 2)
         for k in range(3, 7):
             x[k] /= norm
-        t = t0 + (step + 1) * h
         code = check_state(x, n, bounds)
         if code != 0:
             return step + 1, n_out, code
         if (step0 + step + 1) % record_every == 0 and n_out < out_t.shape[0]:
-            out_t[n_out] = t
+            out_t[n_out] = t0 + (step0 + step + 1) * h
             for k in range(N):
                 out_x[n_out, k] = x[k]
             n_out += 1

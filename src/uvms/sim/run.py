@@ -14,6 +14,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from uvms import checks
 from uvms.control.base import ControlOutput, Measurement
 from uvms.dynamics.fastcall import specialised
 from uvms.dynamics.kernel_model import make_workspace
@@ -30,6 +31,15 @@ MAX_STEPS = 10**9
 DEFAULT_BOUNDS = np.array([1e4, 1e3, 1e3, 1e6])
 """Sane-state limits for divergence detection: |position| [m], |nu| [rad/s, m/s], |qd| [rad/s], |actuator|."""
 
+CHUNK_SECONDS = 0.1
+"""Wall time aimed at by one call of the compiled RK4 loop. A long held-input segment (a whole run without a
+controller) is cut into calls of a bounded number of steps, sized from the measured cost of the previous call,
+so that Ctrl-C (``KeyboardInterrupt``, seen only between calls) and ``progress`` respond within a fraction of a
+second. The cut does not change the arithmetic: every call continues the same step grid (``t = k h``)."""
+
+FIRST_CHUNK_STEPS = 64
+"""Steps of the first compiled RK4 call of a run; later calls are sized from the measured cost."""
+
 
 @dataclass(frozen=True)
 class Actuation:
@@ -42,20 +52,17 @@ class Actuation:
         """``"ideal"`` (or ``None``), a bundled layout name, or ``"model"``: the model file's thrusters."""
         from uvms.thrusters.layouts import layout
 
+        if name is not None and not isinstance(name, str):
+            raise checks.fail("name", f"expected 'ideal', 'model' or a thruster layout name, got {checks.show(name)}")
         if name == "model":
             if model is None:
-                raise ValueError("actuators 'model' needs the model")
+                raise checks.fail("model", "actuation 'model' (the model file's thrusters) needs the model")
             return cls(tuple(model.thrusters))
         return cls(() if name in (None, "ideal") else layout(name))
 
 
 def _six(value, name: str) -> np.ndarray:
-    if value is None:
-        return np.zeros(6)
-    a = np.array(value, dtype=float).reshape(-1)
-    if a.shape != (6,):
-        raise ValueError(f"{name}: expected 6 values [moment; force], got {a.size}")
-    return a
+    return checks.optional_vector(value, 6, name, " [moment; force]")
 
 
 def _quantity_name(index: int, n: int) -> str:
@@ -142,14 +149,20 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         control_period: update period of a callable ``joint_torques`` (an arm controller) [s] (default: its
             ``period`` attribute, or 10 ms). A vehicle controller is updated at its own ``period``.
         record_period: sampling of the result [s] (default: every step, at most 20 000 samples).
-        progress: ``progress(t, duration)`` called after each segment.
+        progress: ``progress(t, duration)`` called after each segment, and within a long one after every
+            compiled call (about every :data:`CHUNK_SECONDS` of computing).
+
+    The result's last row is the state at ``t = duration`` exactly, whatever ``record_period``.
     """
     wall0 = _time.perf_counter()
+    checks.model(model)
     n_total = check_steps(duration, step)
+    duration = float(duration)
     n = model.n_joints
-    state = initial_state if initial_state is not None else State.zero(model)
-    if state.q.size != n:
-        raise ValueError(f"initial state has {state.q.size} joints, the model has {n}")
+    state = State.zero(model) if initial_state is None else checks.state(model, initial_state, "initial_state")
+    integrator, fixed_base, joint_torques, current, control_period, record_period, rtol, atol, bounds = \
+        checks.simulate_arguments(model, integrator, fixed_base, joint_torques, current, controller, actuation,
+                                  control_period, record_period, rtol, atol, bounds, progress, metadata)
     actuation = actuation or Actuation()
     act = actuator_kernel(actuation.thrusters)
     n_act = n_actuator_states(act)
@@ -181,7 +194,8 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     elif isinstance(current, CurrentTable):
         table = current
     elif callable(current):
-        table = CurrentTable.from_function(current, duration, h)
+        table = CurrentTable.from_function(
+            lambda t: checks.returned_vector(current(t), 3, "current", " (world frame, m/s)", t), duration, h)
     else:
         table = CurrentTable.constant(current, model.fluid_acceleration)
     # fresh writeable copies: numba compiles read-only arrays (the model's are) as a different type
@@ -195,12 +209,8 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         if isinstance(joint_torques, TorqueSchedule):      # breakpoints snap to the nearest step
             return np.array(joint_torques(t + 0.5 * h), dtype=float).reshape(n)
         if callable(joint_torques):
-            return np.array(joint_torques(t, st), dtype=float).reshape(n)
-        return np.array(joint_torques, dtype=float).reshape(n)
-
-    if isinstance(joint_torques, TorqueSchedule) and joint_torques.torques.shape[1] != n:
-        raise ValueError(f"joint_torques: the schedule has {joint_torques.torques.shape[1]} torques per row, "
-                         f"the model has {n} joints")
+            return checks.returned_vector(joint_torques(t, st), n, "joint_torques", " (one per joint)", t)
+        return joint_torques
     f_ext = _six(body_wrench, "body_wrench")
     f_ee = _six(ee_wrench, "ee_wrench")
     commands = _Commands(actuation.thrusters)
@@ -224,7 +234,7 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     xdot = np.zeros(x.size)
     zero_cmd = np.zeros(max(len(actuation.thrusters), 6))
     rk4_call = None
-    bounds = np.array(bounds, dtype=float)
+    chunk_steps = FIRST_CHUNK_STEPS
     tau = np.zeros(n)
     command = zero_cmd
     signals: dict[str, float] = {}
@@ -243,7 +253,8 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
 
             out: ControlOutput = controller.update(Measurement(time=t, state=st, joint_torques=tau,
                                                                nu_dot_source=true_nu_dot))
-            wrench = np.asarray(out.wrench, dtype=float)
+            wrench = checks.returned_vector(getattr(out, "wrench", None), 6, "controller.update().wrench",
+                                            " [moment; force]", t)
             command, alloc_signals = commands(wrench)
             signals = dict(out.signals)
             signals.update(zip(_COMMAND_NAMES, wrench.tolist()))
@@ -252,12 +263,20 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
             updates.pop()                   # no row recorded at its steps [previous, done): nothing to log
         updates.append((done, tau, signals))
         steps = event - done
-        if integrator.lower() == "rk4":
-            args = (km, ws, act, x, float(t), float(h), int(steps), int(done), int(record_every), tau, f_ext, f_ee,
-                    command, env_t, env_vc, env_af, bool(fixed_base), bounds, out_t, out_x, int(n_out))
-            if rk4_call is None:
-                rk4_call = specialised(rk4, *args)
-            k_done, n_out, code = rk4_call(*args)
+        if integrator == "rk4":
+            k_done = code = 0
+            while k_done < steps and code == 0:       # bounded calls: Ctrl-C and progress between them
+                chunk = min(steps - k_done, chunk_steps)
+                args = (km, ws, act, x, 0.0, float(h), int(chunk), int(done + k_done), int(record_every), tau, f_ext,
+                        f_ee, command, env_t, env_vc, env_af, bool(fixed_base), bounds, out_t, out_x, int(n_out))
+                if rk4_call is None:
+                    rk4_call = specialised(rk4, *args)
+                tic = _time.perf_counter()
+                k, n_out, code = rk4_call(*args)
+                chunk_steps = _next_chunk(chunk, _time.perf_counter() - tic, chunk_steps)
+                k_done += k
+                if progress is not None and code == 0 and k_done < steps:
+                    progress((done + k_done) * h, duration)
             reason = ""
         else:
             k_done, n_out, code, reason = _adaptive_segment(km, ws, act, x, t, h, steps, record_every, done, tau,
@@ -280,6 +299,11 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
         if progress is not None:
             progress(done * h, duration)
 
+    if complete:                            # the final state is always a row, at exactly t = duration
+        if n_total % record_every:
+            out_x[n_out] = x
+            n_out += 1
+        out_t[n_out - 1] = duration
     out_t = out_t[:n_out]
     out_x = out_x[:n_out]
     # inputs and signals of each row: those of the last update at or before its time (zero-order hold)
@@ -296,14 +320,24 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
 
 
 def check_steps(duration: float, step: float) -> int:
-    """The number of steps of a run, ``round(duration / step)``; ``ValueError`` unless it is 1 to
-    :data:`MAX_STEPS`."""
-    if not (np.isfinite(duration) and np.isfinite(step) and duration > 0 and step > 0):
-        raise ValueError(f"duration and step must be positive and finite, found {duration!r} and {step!r} s")
+    """The number of steps of a run, ``round(duration / step)``; :class:`~uvms.errors.UvmsInputError` (a
+    ``ValueError``) naming the argument unless both are positive finite numbers giving 1 to :data:`MAX_STEPS`."""
+    duration = checks.number(duration, "duration", positive=True, unit="s, at least one step")
+    step = checks.number(step, "step", positive=True, unit="s")
     n = duration / step
     if not 0.5 <= n <= MAX_STEPS:
-        raise ValueError(f"expected 1 to {MAX_STEPS:.0e} steps of {step:g} s in {duration:g} s, found {n:.3g}")
+        raise checks.fail("step", f"expected 1 to {MAX_STEPS:.0e} steps of {step:g} s in {duration:g} s, "
+                                  f"found {n:.3g}")
     return int(round(n))
+
+
+def _next_chunk(steps: int, seconds: float, current: int) -> int:
+    """Steps of the next compiled call: aimed at :data:`CHUNK_SECONDS` from the last call's cost, growing at
+    most 4-fold per call (a first call may include one-off costs) and never below 16."""
+    if steps < current:                       # a short remainder says nothing new about the cost
+        return current
+    aim = int(steps * CHUNK_SECONDS / max(seconds, 1e-9))
+    return max(16, min(aim, 4 * steps))
 
 
 def _events(n_total: int, periods: tuple[int, ...], breakpoints: list[int]):
