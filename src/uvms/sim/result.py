@@ -182,23 +182,25 @@ class Result:
         def column(label: str, default: float = 0.0) -> np.ndarray:
             return table[label].to_numpy(dtype=float) if label in table.columns else np.full(K, default)
 
+        def columns(labels: list[str], default: float = 0.0) -> np.ndarray:
+            return np.column_stack([column(c, default) for c in labels]) if labels else np.zeros((K, 0))
+
         n = sum(1 for c in table.columns if re.fullmatch(r"q\d+_rad", c))
         n_act = sum(1 for c in table.columns if re.fullmatch(r"actuator\d+", c))
-        euler = np.column_stack([column(f"{a}_rad") for a in ("roll", "pitch", "yaw")])
+        euler = columns([f"{a}_rad" for a in ("roll", "pitch", "yaw")])
         quaternion = np.array([quaternion_from_euler(e) for e in euler]).reshape(K, 4)
-        parts = [np.column_stack([column(f"{a}_m") for a in "xyz"]), quaternion,
-                 np.column_stack([column(f"{a}_rad_s") for a in "pqr"] + [column(f"{a}_m_s") for a in "uvw"]),
-                 np.column_stack([column(f"q{j + 1}_rad") for j in range(n)]).reshape(K, n),
-                 np.column_stack([column(f"qd{j + 1}_rad_s") for j in range(n)]).reshape(K, n),
-                 np.column_stack([column(f"actuator{k}") for k in range(n_act)]).reshape(K, n_act)]
+        parts = [columns([f"{a}_m" for a in "xyz"]), quaternion,
+                 columns([f"{a}_rad_s" for a in "pqr"] + [f"{a}_m_s" for a in "uvw"]),
+                 columns([f"q{j + 1}_rad" for j in range(n)]), columns([f"qd{j + 1}_rad_s" for j in range(n)]),
+                 columns([f"actuator{k}" for k in range(n_act)])]
         known = {"t_s"} | {f"{a}_m" for a in "xyz"} | {f"{a}_rad" for a in ("roll", "pitch", "yaw")} | {
             f"{a}_rad_s" for a in "pqr"} | {f"{a}_m_s" for a in "uvw"} | {f"ee_{a}_m" for a in "xyz"} | {
             f"q{j + 1}_rad" for j in range(n)} | {f"qd{j + 1}_rad_s" for j in range(n)} | {
             f"tau{j + 1}_Nm" for j in range(n)} | {f"actuator{k}" for k in range(n_act)}
         result = cls(
             time=column("t_s"), states=np.hstack(parts), n_joints=n,
-            end_effector=np.column_stack([column(f"ee_{a}_m", np.nan) for a in "xyz"]),
-            joint_torques=np.column_stack([column(f"tau{j + 1}_Nm") for j in range(n)]).reshape(K, n),
+            end_effector=columns([f"ee_{a}_m" for a in "xyz"], np.nan),
+            joint_torques=columns([f"tau{j + 1}_Nm" for j in range(n)]),
             signals={c: table[c].to_numpy(dtype=float) for c in table.columns if c not in known},
             complete=bool(summary.get("complete", True)), message=str(summary.get("message") or ""),
             metadata=dict(summary.get("metadata") or {}))

@@ -254,7 +254,7 @@ def html_text(fig, *, frame_names: list[str] | None = None, times=None) -> str:
     post = None
     if frame_names:
         post = _SEEK_SCRIPT % (json.dumps(frame_names), json.dumps([float(t) for t in times]))
-    return fig.to_html(include_plotlyjs=True, full_html=True, post_script=post,
+    return fig.to_html(include_plotlyjs=True, full_html=True, post_script=post, auto_play=False,
                        config=dict(displaylogo=False, responsive=True))
 
 
