@@ -29,7 +29,7 @@ def screenshot(url: str, out, profile) -> np.ndarray:
 
     args = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
             "--hide-scrollbars", "--no-first-run", "--disable-extensions", f"--user-data-dir={profile}",
-            "--window-size=1000,800", "--virtual-time-budget=15000", f"--screenshot={out}", *OFFLINE, url]
+            "--window-size=1000,800", "--virtual-time-budget=10000", f"--screenshot={out}", *OFFLINE, url]
     done = subprocess.run(args, capture_output=True, text=True, timeout=180)
     assert done.returncode == 0 and out.is_file(), done.stderr[-2000:]
     return imread(out)

@@ -12,7 +12,7 @@ HELP = ("replay a saved run (a folder written by 'uvms run') in 3-D: an offline 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the arguments of ``uvms animate``."""
-    from uvms.view.animate import DEFAULT_FPS, DEFAULT_MAX_FRAMES
+    from uvms.view import DEFAULT_FPS, DEFAULT_MAX_FRAMES
 
     parser.add_argument("directory", metavar="RUN", help="a run folder written by 'uvms run' (result.csv, "
                         "result.json, scenario.yaml)")

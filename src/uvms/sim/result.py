@@ -225,14 +225,15 @@ class Result:
 
         return timeseries_figure(self.to_dataframe(), title=title or self._label())
 
-    def animate(self, model=None, *, fps: float = 20.0, speed: float = 1.0, max_frames: int = 250,
+    def animate(self, model=None, *, fps: float | None = None, speed: float = 1.0, max_frames: int | None = None,
                 thrusters=None):
         """The run replayed in 3-D: a plotly Figure with play/pause and a time slider
-        (:func:`uvms.view.animate_run`). ``model`` defaults to the model of the run folder's ``scenario.yaml``
-        when the result was read with :meth:`load`."""
-        from uvms.view import animate_run
+        (:func:`uvms.view.animate_run`; ``fps`` and ``max_frames`` default to its defaults). ``model`` defaults
+        to the model of the run folder's ``scenario.yaml`` when the result was read with :meth:`load`."""
+        from uvms.view import DEFAULT_FPS, DEFAULT_MAX_FRAMES, animate_run
 
-        return animate_run(self, model, fps=fps, speed=speed, max_frames=max_frames, thrusters=thrusters)
+        return animate_run(self, model, fps=DEFAULT_FPS if fps is None else fps, speed=speed,
+                           max_frames=DEFAULT_MAX_FRAMES if max_frames is None else max_frames, thrusters=thrusters)
 
     def _label(self) -> str:
         return str(self.metadata.get("scenario") or "run")

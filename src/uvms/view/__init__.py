@@ -9,17 +9,30 @@ What is drawn comes from one place, :func:`uvms.view.scene.scene_from_model`.
 
 from __future__ import annotations
 
-import numpy as np
+import importlib
+from typing import Any
 
 from uvms.errors import UvmsInputError
-from uvms.view.scene import Primitive, Scene, Snapshot, equal_ranges, pose_scene, scene_from_model
 
-__all__ = ["Primitive", "Scene", "Snapshot", "scene_from_model", "pose_scene", "show", "picture", "animate_run",
-           "state_at"]
+DEFAULT_FPS = 20.0
+"""Frames per second of a replay's playback."""
+DEFAULT_MAX_FRAMES = 250
+"""Most frames of a replay (a longer one keeps its duration at a lower frame rate)."""
+
+_SCENE_NAMES = ("Primitive", "Scene", "Snapshot", "scene_from_model", "pose_scene")
+__all__ = [*_SCENE_NAMES, "show", "picture", "animate_run", "state_at", "DEFAULT_FPS", "DEFAULT_MAX_FRAMES"]
+
+
+def __getattr__(name: str) -> Any:   # numpy and the scene on first use: `uvms --help` stays fast
+    if name in _SCENE_NAMES:
+        return getattr(importlib.import_module("uvms.view.scene"), name)
+    raise AttributeError(f"module 'uvms.view' has no attribute {name!r}")
 
 
 def state_at(model, state=None, *, q=None):
     """``state`` (default: the vehicle at the origin, level), with the joint angles ``q`` [rad] if given."""
+    import numpy as np
+
     from uvms.state import State
 
     state = State.zero(model) if state is None else state
@@ -36,6 +49,7 @@ def state_at(model, state=None, *, q=None):
 
 def _snapshot(model, state, q, thrusters):
     from uvms.kinematics import forward_kinematics
+    from uvms.view.scene import pose_scene, scene_from_model
 
     state = state_at(model, state, q=q)
     scene = scene_from_model(model, thrusters)
@@ -59,14 +73,18 @@ def show(model, state=None, *, q=None, thrusters=None, title: str | None = None)
 
 def picture(model, state=None, *, q=None, thrusters=None, title: str | None = None):
     """:func:`show` as a static matplotlib Figure (for ``.png``, ``.pdf``, ``.svg``)."""
+    import numpy as np
+
     from uvms.view import png
+    from uvms.view.scene import equal_ranges
 
     scene, snap, state = _snapshot(model, state, q, thrusters)
     ranges = equal_ranges(np.vstack([snap.points(), 1.15 * scene.world_axis_length * np.eye(3)]))
     return png.pose_figure(scene, snap, ranges, title=title or _title(model, state))
 
 
-def animate_run(result, model=None, *, fps: float = 20.0, speed: float = 1.0, max_frames: int = 250,
+def animate_run(result, model=None, *, fps: float = DEFAULT_FPS, speed: float = 1.0,
+                max_frames: int = DEFAULT_MAX_FRAMES,
                 thrusters=None, start: int = 0):
     """A run replayed in 3-D as a plotly Figure (play/pause, time slider, trails, thrust arrows).
 

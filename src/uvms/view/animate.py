@@ -18,10 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from uvms.errors import UvmsInputError
+from uvms.view import DEFAULT_FPS, DEFAULT_MAX_FRAMES
 from uvms.view.scene import Scene, Snapshot, equal_ranges, pose_scene, scene_from_model
 
-DEFAULT_FPS = 20.0
-DEFAULT_MAX_FRAMES = 250
 VIDEO_SUFFIXES = (".mp4", ".gif")
 
 
