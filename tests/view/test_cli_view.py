@@ -65,6 +65,7 @@ def test_default_show_output_is_named_after_the_model(tmp_path, monkeypatch):
     (["show", "paper", "-o", "x.txt"], "x.txt: --output: expected a .html, .png, .pdf, .svg or .jpg file name"),
     (["show", "paper", "--q", "nan", "0", "0", "-o", "x.html"], "--q: expected finite joint angles"),
     (["show", "paper", "-o", ""], "--output: expected a file name"),
+    (["show", "paper", "--position", "0", "inf", "0", "-o", "x.png"], "--position: expected finite numbers"),
 ])
 def test_show_bad_input_is_one_line(tmp_path, monkeypatch, argv, message):
     monkeypatch.chdir(tmp_path)

@@ -173,3 +173,18 @@ def test_matplotlib_picture_has_z_down_and_is_not_mirrored(paper):
     plain = Figure().add_subplot(projection="3d")
     J_ref, _ = _screen_jacobian(plain)
     assert np.sign(np.linalg.det(J)) == np.sign(np.linalg.det(J_ref)) != 0
+
+
+def test_models_without_arm_or_thrusters_are_drawn(paper):
+    """The vehicle alone (no joints) and a random 5-link chain without thrusters (tests/conftest.py)."""
+    from ..conftest import random_model
+
+    alone = paper.vehicle_only()
+    fig = show(alone)
+    assert {"vehicle", "thrusters"} <= {t.name for t in fig.data} and "links" not in {t.name for t in fig.data}
+    assert picture(alone).axes
+    chain = random_model(np.random.default_rng(3), 5)
+    fig = show(chain, q=np.ones(5))
+    assert "thrusters" not in {t.name for t in fig.data}
+    joints = next(t for t in fig.data if t.name == "joint axes")
+    assert np.isfinite(np.asarray(joints.x, dtype=float)).sum() == 10     # 5 segments, 2 ends each

@@ -97,12 +97,13 @@ def draw_target(ax, scene: Scene, target: Snapshot) -> None:
     ax.scatter(*o, color="#444444", marker="x", s=30, depthshade=False, label="target (initial pose)")
 
 
-def legend(ax) -> None:
+def legend(ax, scene: Scene) -> None:
     from matplotlib.lines import Line2D
 
     handles = [Line2D([], [], color=AXIS_COLORS[0], lw=2, label="x axes (red), y green, z blue"),
-               Line2D([], [], color=JOINT_COLOR, lw=2, ls="--", label="joint axes"),
-               Line2D([], [], color=THRUSTER_COLOR, lw=2.5, label="thrusters")]
+               Line2D([], [], color=JOINT_COLOR, lw=2, ls="--", label="joint axes")]
+    if scene.thrusters:
+        handles.append(Line2D([], [], color=THRUSTER_COLOR, lw=2.5, label="thrusters"))
     existing, names = ax.get_legend_handles_labels()
     ax.legend(handles=handles + existing, labels=[h.get_label() for h in handles] + names, loc="upper left",
               fontsize=8, framealpha=0.8)
@@ -114,5 +115,5 @@ def pose_figure(scene: Scene, snap: Snapshot, ranges: np.ndarray, *, title: str)
     draw_world(ax, scene)
     draw_snapshot(ax, scene, snap)
     style_axes(ax, ranges, title)
-    legend(ax)
+    legend(ax, scene)
     return fig
