@@ -188,3 +188,27 @@ def test_models_without_arm_or_thrusters_are_drawn(paper):
     assert "thrusters" not in {t.name for t in fig.data}
     joints = next(t for t in fig.data if t.name == "joint axes")
     assert np.isfinite(np.asarray(joints.x, dtype=float)).sum() == 10     # 5 segments, 2 ends each
+
+
+def test_slow_motion_frames_keep_distinct_names_and_labels(paper):
+    """Played at 1/100 speed, frames lie 0.5 ms apart: every frame still has its own name and slider label."""
+    from uvms.view.animate import replay_figure
+
+    rp = replay(synthetic_result(paper, K=801, duration=0.4), paper, fps=20, speed=0.01, max_frames=40)
+    fig = replay_figure(rp)
+    names = [f.name for f in fig.frames]
+    labels = [s.label for s in fig.layout.sliders[0].steps]
+    assert len(set(names)) == len(names) == 40 and len(set(labels)) == 40
+
+
+def test_animation_frames_move_the_same_points_as_the_drawn_traces(paper):
+    """A frame carries only points (:func:`moving_points`); they must be those of the styled traces, in order."""
+    from uvms.view.plotly_html import moving_points, moving_traces
+
+    rp = replay(synthetic_result(paper), paper, fps=2, speed=1, max_frames=10)
+    for snap in rp.snaps:
+        traces, points = moving_traces(rp.scene, snap), moving_points(rp.scene, snap)
+        assert len(traces) == len(points)
+        for trace, p in zip(traces, points):
+            drawn = np.column_stack([np.asarray(trace[a], dtype=float) for a in "xyz"])
+            assert drawn == pytest.approx(p, abs=1e-6, nan_ok=True), trace.name

@@ -74,9 +74,27 @@ def _mesh(V: np.ndarray, F: np.ndarray, *, name: str, color: str, opacity: float
                      lightposition=dict(x=-1000, y=-500, z=-2000))
 
 
+def moving_points(scene: Scene, snap: Snapshot) -> list[np.ndarray]:
+    """The points of every moving trace, (P, 3) each, in the order of :func:`moving_traces` (what an
+    animation frame changes): shapes, body triads (x, y, z), joint axes, centres of mass and buoyancy,
+    thruster shafts, thruster heads, thruster labels."""
+    def polyline(a, b) -> np.ndarray:
+        return np.column_stack(_segments(a, b))
+
+    points = [V for V, _ in snap.meshes]
+    ends = [snap.frame_origin + scene.triad_length * snap.frame_axes[:, :, a] for a in range(3)]
+    points += [polyline(snap.frame_origin, e) for e in ends]
+    points += [polyline(snap.joint_axis[:, 0], snap.joint_axis[:, 1]), snap.com, snap.cob]
+    if scene.thrusters:
+        head = 0.3 * scene.arrow_length
+        V, _ = _merged_mesh([arrow_head(b, t, head) for b, t in zip(snap.thruster_base, snap.thruster_tip)])
+        points += [polyline(snap.thruster_base, snap.thruster_tip), V, snap.thruster_tip]
+    return [np.asarray(p, dtype=np.float32) for p in points]
+
+
 def moving_traces(scene: Scene, snap: Snapshot) -> list:
-    """The traces that follow the robot, in a fixed order (the same count for every pose of a scene):
-    shapes, body triads (x, y, z), joint axes, centres of mass and buoyancy, thruster arrows and labels."""
+    """The traces that follow the robot, styled, in the order of :func:`moving_points` (the same count for
+    every pose of a scene)."""
     import plotly.graph_objects as go
 
     traces = []
@@ -175,9 +193,9 @@ def animation_figure(scene: Scene, snaps: list[Snapshot], times: np.ndarray, *, 
     if target is not None:
         L = scene.triad_length
         for a in range(3):
-            static.append(_lines(target.frame_origin[:1], target.frame_origin[:1] + 1.3 * L * target.frame_axes[0, :, a][None],
-                                 name="target (initial pose)", color=AXIS_COLORS[a], width=2, dash="dash",
-                                 showlegend=a == 0))
+            o = target.frame_origin[:1]
+            static.append(_lines(o, o + 1.3 * L * target.frame_axes[0, :, a][None], name="target (initial pose)",
+                                 color=AXIS_COLORS[a], width=2, dash="dash", showlegend=a == 0))
         static.append(go.Scatter3d(x=[target.vehicle[0]], y=[target.vehicle[1]], z=[target.vehicle[2]],
                                    mode="markers", name="target (initial pose)", legendgroup="target (initial pose)",
                                    showlegend=False, marker=dict(size=6, color="#444", symbol="x")))
@@ -188,18 +206,21 @@ def animation_figure(scene: Scene, snaps: list[Snapshot], times: np.ndarray, *, 
                 go.Scatter3d(x=ee_path[: k + 1, 0], y=ee_path[: k + 1, 1], z=ee_path[: k + 1, 2], mode="lines",
                              name="end-effector trail", line=dict(color=EE_TRAIL_COLOR, width=4))]
 
-    def data(k: int) -> list:
-        return moving_traces(scene, snaps[k]) + trails(k)
+    start = int(np.clip(start, 0, len(snaps) - 1))
+    first = moving_traces(scene, snaps[start]) + trails(start)
+    kinds = [t.type for t in first]
 
     def positions(k: int) -> list:
         """Only what moves (the points): a frame's traces are merged into the drawn ones."""
-        return [dict(type=t.type, x=np.asarray(t.x, dtype=np.float32), y=np.asarray(t.y, dtype=np.float32),
-                     z=np.asarray(t.z, dtype=np.float32)) for t in data(k)]
+        pts = moving_points(scene, snaps[k]) + [np.asarray(vehicle_path[: k + 1], dtype=np.float32),
+                                                 np.asarray(ee_path[: k + 1], dtype=np.float32)]
+        return [dict(type=kind, x=p[:, 0], y=p[:, 1], z=p[:, 2]) for kind, p in zip(kinds, pts, strict=True)]
 
-    start = int(np.clip(start, 0, len(snaps) - 1))
-    first = data(start)
     moving_index = list(range(len(static), len(static) + len(first)))
-    names = [f"{t:.3f}" for t in times]
+    names = [str(k) for k in range(len(snaps))]          # unique, whatever the spacing of the times
+    steps = np.diff(np.asarray(times, dtype=float))
+    smallest = float(steps[steps > 0].min()) if np.any(steps > 0) else 1.0
+    decimals = int(min(6, max(2, np.ceil(-np.log10(smallest)))))
     frames = [go.Frame(data=positions(k), traces=moving_index, name=names[k]) for k in range(len(snaps))]
     points = np.vstack([s.points() for s in snaps] + [1.15 * scene.world_axis_length * np.eye(3)])
     fig = go.Figure(data=static + first, frames=frames)
@@ -217,7 +238,7 @@ def animation_figure(scene: Scene, snaps: list[Snapshot], times: np.ndarray, *, 
         active=start, x=0.2, y=0.06, len=0.78, xanchor="left", yanchor="top", pad=dict(t=8, b=4),
         currentvalue=dict(prefix="t = ", suffix=" s", visible=True, xanchor="left"),
         transition=dict(duration=0),
-        steps=[dict(label=f"{t:.2f}", method="animate",
+        steps=[dict(label=f"{t:.{decimals}f}", method="animate",
                     args=[[name], dict(frame=dict(duration=0, redraw=True), transition=dict(duration=0),
                                        mode="immediate")]) for t, name in zip(times, names)])]
     layout["legend"].update(y=0.12)
