@@ -34,6 +34,7 @@ _EXPORTS = {
     "Result": "uvms.sim.result",
     "TorqueSchedule": "uvms.sim.inputs",
     "hydrodynamic_wrenches": "uvms.hydro.inspect",
+    "show": "uvms.view",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]

@@ -12,4 +12,5 @@ COMMANDS: tuple[str, ...] = (
     "run", "plot",
     "compare",
     "sweep",
+    "show", "animate",
 )

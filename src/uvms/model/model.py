@@ -179,3 +179,23 @@ class Model:
             gravity=self.gravity, current=self.current, fluid_acceleration=self.fluid_acceleration,
             thrusters=self.thrusters,
         )
+
+    # -- short summaries for the console and notebooks (not kilobytes of arrays)
+
+    def __repr__(self) -> str:
+        return (f"Model({self.name!r}, {self.n_joints} joints, {float(self.mass.sum()):.4g} kg, "
+                f"{len(getattr(self, 'thrusters', ()))} thrusters, source={self.source!r})")
+
+    def _repr_html_(self) -> str:
+        import html
+
+        rows = [("name", self.name), ("source", self.source or "-"),
+                ("bodies", ", ".join(self.body_names)),
+                ("mass", f"{float(self.mass.sum()):.4g} kg (vehicle {float(self.mass[0]):.4g} kg)"),
+                ("displaced fluid", f"{float(self.buoyancy_mass.sum()):.4g} kg"),
+                ("vehicle box", " x ".join(f"{v:.4g}" for v in getattr(self, "vehicle_box", ())) + " m"),
+                ("thrusters", ", ".join(t.name for t in getattr(self, "thrusters", ())) or "none"),
+                ("fluid density", f"{self.density:.6g} kg/m^3")]
+        body = "".join(f"<tr><th style='text-align:left'>{html.escape(a)}</th>"
+                       f"<td style='text-align:left'>{html.escape(b)}</td></tr>" for a, b in rows)
+        return f"<div><b>uvms Model</b> (uvms.show(model) draws it)<table>{body}</table></div>"

@@ -160,6 +160,108 @@ class Result:
         atomic_write_text(directory / f"{name}.json", json.dumps(self.summary(), indent=2, default=_json_default))
         return directory
 
+    # -- reading back, looking at it (notebooks)
+
+    @classmethod
+    def load(cls, directory, *, name: str = "result") -> "Result":
+        """A saved run (``uvms run -o DIR``, or :meth:`save`) read back from ``DIR/<name>.csv`` and ``.json``
+        through the checked readers :func:`load_result_table` and :func:`load_result_summary`.
+
+        The orientation is rebuilt from the saved ZYX Euler angles (the quaternion itself is not saved);
+        series a table lacks (an older file) are zero, the end effector NaN. Unknown columns become
+        ``signals``. A missing or damaged file is a one-line :class:`~uvms.errors.UvmsInputError`.
+        """
+        import re
+
+        from uvms.rotations import quaternion_from_euler
+
+        table = load_result_table(directory, name)
+        summary = load_result_summary(directory, name)
+        K = len(table)
+
+        def column(label: str, default: float = 0.0) -> np.ndarray:
+            return table[label].to_numpy(dtype=float) if label in table.columns else np.full(K, default)
+
+        def columns(labels: list[str], default: float = 0.0) -> np.ndarray:
+            return np.column_stack([column(c, default) for c in labels]) if labels else np.zeros((K, 0))
+
+        n = sum(1 for c in table.columns if re.fullmatch(r"q\d+_rad", c))
+        n_act = sum(1 for c in table.columns if re.fullmatch(r"actuator\d+", c))
+        euler = columns([f"{a}_rad" for a in ("roll", "pitch", "yaw")])
+        quaternion = np.array([quaternion_from_euler(e) for e in euler]).reshape(K, 4)
+        parts = [columns([f"{a}_m" for a in "xyz"]), quaternion,
+                 columns([f"{a}_rad_s" for a in "pqr"] + [f"{a}_m_s" for a in "uvw"]),
+                 columns([f"q{j + 1}_rad" for j in range(n)]), columns([f"qd{j + 1}_rad_s" for j in range(n)]),
+                 columns([f"actuator{k}" for k in range(n_act)])]
+        known = {"t_s"} | {f"{a}_m" for a in "xyz"} | {f"{a}_rad" for a in ("roll", "pitch", "yaw")} | {
+            f"{a}_rad_s" for a in "pqr"} | {f"{a}_m_s" for a in "uvw"} | {f"ee_{a}_m" for a in "xyz"} | {
+            f"q{j + 1}_rad" for j in range(n)} | {f"qd{j + 1}_rad_s" for j in range(n)} | {
+            f"tau{j + 1}_Nm" for j in range(n)} | {f"actuator{k}" for k in range(n_act)}
+        result = cls(
+            time=column("t_s"), states=np.hstack(parts), n_joints=n,
+            end_effector=columns([f"ee_{a}_m" for a in "xyz"], np.nan),
+            joint_torques=columns([f"tau{j + 1}_Nm" for j in range(n)]),
+            signals={c: table[c].to_numpy(dtype=float) for c in table.columns if c not in known},
+            complete=bool(summary.get("complete", True)), message=str(summary.get("message") or ""),
+            metadata=dict(summary.get("metadata") or {}))
+        object.__setattr__(result, "_directory", Path(directory))   # where it came from (its scenario.yaml)
+        return result
+
+    def state(self, k: int):
+        """The :class:`~uvms.state.State` of sample ``k`` (negative counts from the end)."""
+        from uvms.state import State
+
+        K = len(self.time)
+        if not -K <= int(k) < K:
+            raise IndexError(f"sample {k} out of range: the run has {K} samples")
+        x = self.states[int(k)]
+        sl = layout(self.n_joints, self.states.shape[1] - 13 - 2 * self.n_joints)
+        return State(position=x[sl["position"]], quaternion=x[sl["quaternion"]], nu=x[sl["nu"]], q=x[sl["q"]],
+                     qd=x[sl["qd"]], actuator=x[sl["actuator"]])
+
+    def plot(self, *, title: str | None = None):
+        """The time-series figure of ``uvms plot`` (:func:`uvms.plots.timeseries_figure`), a matplotlib Figure."""
+        from uvms.plots import timeseries_figure
+
+        return timeseries_figure(self.to_dataframe(), title=title or self._label())
+
+    def animate(self, model=None, *, fps: float | None = None, speed: float = 1.0, max_frames: int | None = None,
+                thrusters=None):
+        """The run replayed in 3-D: a plotly Figure with play/pause and a time slider
+        (:func:`uvms.view.animate_run`; ``fps`` and ``max_frames`` default to its defaults). ``model`` defaults
+        to the model of the run folder's ``scenario.yaml`` when the result was read with :meth:`load`."""
+        from uvms.view import DEFAULT_FPS, DEFAULT_MAX_FRAMES, animate_run
+
+        return animate_run(self, model, fps=DEFAULT_FPS if fps is None else fps, speed=speed,
+                           max_frames=DEFAULT_MAX_FRAMES if max_frames is None else max_frames, thrusters=thrusters)
+
+    def _label(self) -> str:
+        return str(self.metadata.get("scenario") or "run")
+
+    def __repr__(self) -> str:
+        K = len(self.time)
+        span = f"t = {self.time[0]:.6g}..{self.time[-1]:.6g} s" if K else "no samples"
+        state = "complete" if self.complete else f"INCOMPLETE ({self.message})" if self.message else "INCOMPLETE"
+        return (f"Result({self._label()!r}, {K} samples, {span}, {self.n_joints} joints, "
+                f"{len(self.signals)} signals, {state})")
+
+    def _repr_html_(self) -> str:
+        import html
+
+        K = len(self.time)
+        meta = self.metadata
+        rows = [("scenario", self._label()), ("samples", f"{K}"),
+                ("time", f"{self.time[0]:.6g} .. {self.time[-1]:.6g} s" if K else "-"),
+                ("joints", f"{self.n_joints}"), ("vehicle", meta.get("vehicle") or "-"),
+                ("controller", meta.get("controller") or "off"),
+                ("signals", ", ".join(list(self.signals)[:8]) + (", ..." if len(self.signals) > 8 else "") or "-"),
+                ("complete", "yes" if self.complete else f"no: {self.message}")]
+        if K:
+            rows.append(("final position", "[" + ", ".join(f"{v:+.4g}" for v in self.position[-1]) + "] m"))
+        body = "".join(f"<tr><th style='text-align:left'>{html.escape(str(a))}</th>"
+                       f"<td style='text-align:left'>{html.escape(str(b))}</td></tr>" for a, b in rows)
+        return f"<div><b>uvms Result</b> (.plot(), .animate(), .to_dataframe())<table>{body}</table></div>"
+
 
 def _json_default(obj):
     if isinstance(obj, np.ndarray):

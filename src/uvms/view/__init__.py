@@ -1,0 +1,102 @@
+"""3-D views of a model and replays of runs (``uvms show``, ``uvms animate``; ``docs/viewing.md``).
+
+* :func:`show` - the model at a pose, an interactive plotly Figure (Jupyter, or ``.write_html``).
+* :func:`picture` - the same as a matplotlib Figure (PNG/PDF/SVG for papers).
+* :func:`animate_run` - a saved or fresh run replayed with play/pause and a time slider (plotly Figure).
+
+What is drawn comes from one place, :func:`uvms.view.scene.scene_from_model`.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from uvms.errors import UvmsInputError
+
+DEFAULT_FPS = 20.0
+"""Frames per second of a replay's playback."""
+DEFAULT_MAX_FRAMES = 250
+"""Most frames of a replay (a longer one keeps its duration at a lower frame rate)."""
+
+_SCENE_NAMES = ("Primitive", "Scene", "Snapshot", "scene_from_model", "pose_scene")
+__all__ = [*_SCENE_NAMES, "show", "picture", "animate_run", "state_at", "DEFAULT_FPS", "DEFAULT_MAX_FRAMES"]
+
+
+def __getattr__(name: str) -> Any:   # numpy and the scene on first use: `uvms --help` stays fast
+    if name in _SCENE_NAMES:
+        return getattr(importlib.import_module("uvms.view.scene"), name)
+    raise AttributeError(f"module 'uvms.view' has no attribute {name!r}")
+
+
+def state_at(model, state=None, *, q=None):
+    """``state`` (default: the vehicle at the origin, level), with the joint angles ``q`` [rad] if given."""
+    import numpy as np
+
+    from uvms.state import State
+
+    state = State.zero(model) if state is None else state
+    if q is not None:
+        q = np.asarray(q, dtype=float).reshape(-1)
+        if q.size != model.n_joints:
+            raise UvmsInputError(f"expected {model.n_joints} joint angles for model {model.name!r}, found {q.size}",
+                                 None, "--q")
+        if not np.all(np.isfinite(q)):
+            raise UvmsInputError("expected finite joint angles", None, "--q")
+        state = state.replace(q=q)
+    return state
+
+
+def _snapshot(model, state, q, thrusters):
+    from uvms.kinematics import forward_kinematics
+    from uvms.view.scene import pose_scene, scene_from_model
+
+    state = state_at(model, state, q=q)
+    scene = scene_from_model(model, thrusters)
+    poses = forward_kinematics(model, state)
+    return scene, pose_scene(scene, poses.rotation, poses.position), state
+
+
+def _title(model, state) -> str:
+    q = ", ".join(f"{v:.3g}" for v in state.q)
+    return f"{model.name}: q = [{q}] rad" if state.q.size else str(model.name)
+
+
+def show(model, state=None, *, q=None, thrusters=None, title: str | None = None):
+    """The model at ``state`` (default: at the origin, joints at zero; ``q`` overrides the joint angles) as an
+    interactive plotly Figure: shapes, body frames, joint axes, centres of mass and buoyancy, thrusters."""
+    from uvms.view.plotly_html import pose_figure
+
+    scene, snap, state = _snapshot(model, state, q, thrusters)
+    return pose_figure(scene, snap, title=title or _title(model, state))
+
+
+def picture(model, state=None, *, q=None, thrusters=None, title: str | None = None):
+    """:func:`show` as a static matplotlib Figure (for ``.png``, ``.pdf``, ``.svg``)."""
+    import numpy as np
+
+    from uvms.view import png
+    from uvms.view.scene import equal_ranges
+
+    scene, snap, state = _snapshot(model, state, q, thrusters)
+    ranges = equal_ranges(np.vstack([snap.points(), 1.15 * scene.world_axis_length * np.eye(3)]))
+    return png.pose_figure(scene, snap, ranges, title=title or _title(model, state))
+
+
+def animate_run(result, model=None, *, fps: float = DEFAULT_FPS, speed: float = 1.0,
+                max_frames: int = DEFAULT_MAX_FRAMES,
+                thrusters=None, start: int = 0):
+    """A run replayed in 3-D as a plotly Figure (play/pause, time slider, trails, thrust arrows).
+
+    ``model`` defaults to the model of the run folder ``result`` was read from (:meth:`Result.load
+    <uvms.sim.result.Result.load>`: its ``scenario.yaml``), and ``thrusters`` to that run's thruster layout."""
+    from uvms.view.animate import model_of_run, replay, replay_figure
+
+    if model is None:
+        directory = getattr(result, "_directory", None)
+        if directory is None:
+            raise UvmsInputError("pass the model: the result was not read from a run folder (Result.load)")
+        model, layout = model_of_run(directory)
+        thrusters = layout if thrusters is None else thrusters
+    rp = replay(result, model, fps=fps, speed=speed, max_frames=max_frames, thrusters=thrusters)
+    return replay_figure(rp, start=start)

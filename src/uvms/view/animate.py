@@ -1,0 +1,197 @@
+"""A saved run replayed in 3-D: frame sampling, the plotly page, mp4 and gif videos.
+
+Frames are taken at a fixed playback rate: a run of duration ``D`` played at ``speed`` lasts ``D / speed``
+seconds of wall time and is cut into ``fps`` frames per second, each showing the recorded sample nearest to
+its time (no interpolation: what is drawn was computed). At most ``max_frames`` frames are drawn; a longer
+replay keeps its duration and lowers its frame rate. Thruster arrows are the commanded thrusts
+(``thrust_cmd_<name>`` signals of the run), all scaled by the largest one of the run.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from uvms.errors import UvmsInputError
+from uvms.view import DEFAULT_FPS, DEFAULT_MAX_FRAMES
+from uvms.view.scene import Scene, Snapshot, equal_ranges, pose_scene, scene_from_model
+
+VIDEO_SUFFIXES = (".mp4", ".gif")
+
+
+@dataclass(frozen=True)
+class Replay:
+    """The frames of a replay.
+
+    Attributes:
+        scene: what is drawn.
+        snaps: one snapshot per frame.
+        times: (N,) simulation time of each frame [s].
+        samples: (N,) index of the recorded sample each frame shows.
+        fps: frames per second of wall time.
+        target: the station-keeping target (the vehicle at its initial pose).
+        vehicle_path, ee_path: (N, 3) positions of the vehicle and the end effector per frame [m].
+        peak_thrust: largest commanded thrust magnitude of the run [N] (0 without thrust signals).
+        title: a one-line description.
+    """
+
+    scene: Scene
+    snaps: list[Snapshot]
+    times: np.ndarray
+    samples: np.ndarray
+    fps: float
+    target: Snapshot
+    vehicle_path: np.ndarray
+    ee_path: np.ndarray
+    peak_thrust: float
+    title: str
+
+    def ranges(self) -> np.ndarray:
+        return equal_ranges(np.vstack([s.points() for s in self.snaps]
+                                      + [1.15 * self.scene.world_axis_length * np.eye(3)]))
+
+
+def frame_samples(time: np.ndarray, *, fps: float, speed: float, max_frames: int) -> tuple[np.ndarray, float]:
+    """Indices of the recorded samples shown by each frame, and the frame rate actually used."""
+    time = np.asarray(time, dtype=float)
+    if not (fps > 0 and math.isfinite(fps)):
+        raise UvmsInputError(f"expected a positive frame rate, found {fps}", None, "--fps")
+    if not (speed > 0 and math.isfinite(speed)):
+        raise UvmsInputError(f"expected a positive playback speed, found {speed}", None, "--speed")
+    if max_frames < 1:
+        raise UvmsInputError(f"expected at least 1 frame, found {max_frames}", None, "--max-frames")
+    wall = float(time[-1] - time[0]) / speed if len(time) else 0.0
+    wanted_count = int(math.floor(wall * fps + 1e-9)) + 1
+    count = min(wanted_count, max_frames, len(time))
+    if count <= 1:
+        return np.zeros(1, dtype=int), fps
+    used = fps if count == wanted_count else (count - 1) / wall
+    wanted = time[0] + np.arange(count) * (speed / used)
+    idx = np.clip(np.searchsorted(time, wanted), 1, len(time) - 1)
+    nearer_left = (wanted - time[idx - 1]) <= (time[idx] - wanted)
+    return np.where(nearer_left, idx - 1, idx), used
+
+
+def _thrust_fractions(result, scene: Scene) -> tuple[np.ndarray, float]:
+    """(K, m) commanded thrust of each thruster as a fraction of the run's largest; and that largest [N]."""
+    K = len(result.time)
+    T = np.zeros((K, len(scene.thrusters)))
+    for j, t in enumerate(scene.thrusters):
+        s = result.signals.get(f"thrust_cmd_{t.name}")
+        if s is not None:
+            T[:, j] = np.nan_to_num(np.asarray(s, dtype=float))
+    peak = float(np.max(np.abs(T))) if T.size else 0.0
+    return (T / peak if peak > 0 else T), peak
+
+
+def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_frames: int = DEFAULT_MAX_FRAMES,
+           thrusters=None, title: str | None = None) -> Replay:
+    """The frames of ``result`` (a :class:`~uvms.sim.result.Result`) drawn with ``model``'s scene; ``thrusters``
+    (default: the model's) are the run's thruster layout."""
+    from uvms.kinematics import forward_kinematics
+
+    if len(result.time) == 0:
+        raise UvmsInputError("the run has no samples to show")
+    if model.n_joints != result.n_joints:
+        raise UvmsInputError(f"the run has {result.n_joints} joints, its model {model.name!r} has "
+                             f"{model.n_joints}")
+    scene = scene_from_model(model, thrusters)
+    samples, used = frame_samples(result.time, fps=fps, speed=speed, max_frames=max_frames)
+    fractions, peak = _thrust_fractions(result, scene)
+    local = [prim.local_mesh() for prim in scene.primitives]
+    snaps = []
+    for k in samples:
+        poses = forward_kinematics(model, result.state(int(k)))
+        snaps.append(pose_scene(scene, poses.rotation, poses.position, fractions[k], _local=local))
+    first = forward_kinematics(model, result.state(0))
+    target = pose_scene(scene, first.rotation, first.position, np.zeros(len(scene.thrusters)), _local=local)
+    name = title or str(result.metadata.get("scenario") or "run")
+    arrows = f"; arrows: commanded thrust, longest {peak:.3g} N" if peak > 0 else ""
+    speed_text = f", played at {speed:g}x" if speed != 1 else ""
+    head = f"{name} (model {model.name}){speed_text}{arrows}"
+    return Replay(scene=scene, snaps=snaps, times=np.asarray(result.time)[samples], samples=samples, fps=used,
+                  target=target, vehicle_path=np.array([s.vehicle for s in snaps]),
+                  ee_path=np.array([s.end_effector for s in snaps]), peak_thrust=peak, title=head)
+
+
+def replay_figure(rp: Replay, *, start: int = 0):
+    """The plotly figure of a replay (play/pause, time slider, trails, target)."""
+    from uvms.view.plotly_html import animation_figure
+
+    return animation_figure(rp.scene, rp.snaps, rp.times, title=rp.title, fps=rp.fps, target=rp.target,
+                            vehicle_path=rp.vehicle_path, ee_path=rp.ee_path, start=start)
+
+
+def write_replay_html(rp: Replay, path, *, start: int = 0) -> Path:
+    """Write the replay as one self-contained HTML page (atomically)."""
+    from uvms.view.plotly_html import write_html
+
+    fig = replay_figure(rp, start=start)
+    return write_html(fig, path, frame_names=[f.name for f in fig.frames], times=rp.times)
+
+
+def ffmpeg_available() -> bool:
+    from matplotlib.animation import FFMpegWriter
+
+    return bool(FFMpegWriter.isAvailable())
+
+
+def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -> Path:
+    """Write the replay as an mp4 (matplotlib's FFMpegWriter: needs the ``ffmpeg`` program) or a gif
+    (PillowWriter), through a temporary file renamed into place."""
+    from matplotlib.animation import FFMpegWriter, PillowWriter
+
+    from uvms.output import naming, publish
+    from uvms.view import png
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".mp4":
+        if not ffmpeg_available():
+            raise UvmsInputError("writing .mp4 needs the ffmpeg program, which is not installed (install ffmpeg, "
+                                 "or write a .gif or .html)", str(path), option)
+        writer = FFMpegWriter(fps=rp.fps, codec="h264", extra_args=["-pix_fmt", "yuv420p"])
+    elif suffix == ".gif":
+        writer = PillowWriter(fps=rp.fps)
+    else:
+        raise UvmsInputError(f"expected a {' or '.join(VIDEO_SUFFIXES)} file name", str(path), option)
+    ranges = rp.ranges()
+    fig, ax = png.new_figure(size=(7.2, 6.4))
+    with naming(path):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix, dir=path.parent)
+        os.close(fd)
+        try:
+            with writer.saving(fig, tmp, dpi):
+                for k, snap in enumerate(rp.snaps):
+                    ax.cla()
+                    png.draw_world(ax, rp.scene)
+                    png.draw_target(ax, rp.scene, rp.target)
+                    png.draw_trails(ax, rp.vehicle_path[: k + 1], rp.ee_path[: k + 1])
+                    png.draw_snapshot(ax, rp.scene, snap)
+                    png.style_axes(ax, ranges, f"{rp.title}\nt = {rp.times[k]:.2f} s")
+                    writer.grab_frame()
+            publish(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+    return path
+
+
+def model_of_run(directory):
+    """The model and thruster layout of a saved run, from its ``scenario.yaml`` (written by ``uvms run``)."""
+    from uvms.sim.run import Actuation
+    from uvms.sim.scenario import load_scenario
+
+    directory = Path(directory)
+    path = directory / "scenario.yaml"
+    if not path.is_file():
+        raise UvmsInputError("no scenario.yaml here, so the model of the run is unknown (a folder written by "
+                             "'uvms run SCENARIO -o DIR' has one)", str(directory))
+    scenario = load_scenario(path)
+    return scenario.model, Actuation.named(scenario.spec.actuators, scenario.model).thrusters
