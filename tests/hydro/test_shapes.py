@@ -101,7 +101,7 @@ def test_transform_added_mass_preserves_kinetic_energy(rng):
 
 
 # Lamb, "The inertia-coefficients of an ellipsoid moving in fluid", ARC R&M 623 (1918), table (reprinted in
-# Lamb, Hydrodynamics, 1932, §373): length/breadth ratio, k1 (end-on), k2 (broadside), k' (rotation).
+# Lamb, Hydrodynamics, 1932): length/breadth ratio, k1 (end-on), k2 (broadside), k' (rotation).
 LAMB_1918 = [
     (1.50, 0.305, 0.621, 0.094), (2.00, 0.209, 0.702, 0.240), (2.51, 0.156, 0.763, 0.367),
     (2.99, 0.122, 0.803, 0.465), (3.99, 0.082, 0.860, 0.608), (4.99, 0.059, 0.895, 0.701),
@@ -128,7 +128,7 @@ def test_elliptic_integrals_agree_with_lambs_closed_form_for_a_spheroid(ratio):
 
 
 def test_ellipsoid_integrals_sum_to_two_and_a_sphere_has_two_thirds(rng):
-    """Lamb §114: alpha0 + beta0 + gamma0 = 2; for a sphere each is 2/3 and k = 1/2."""
+    """Lamb 1932: alpha0 + beta0 + gamma0 = 2; for a sphere each is 2/3 and k = 1/2."""
     np.testing.assert_allclose(ellipsoid_inertia_integrals(0.7, 0.7, 0.7), [2 / 3] * 3, rtol=1e-13)
     for _ in range(20):
         assert sum(ellipsoid_inertia_integrals(*rng.uniform(0.05, 2.0, 3))) == pytest.approx(2.0, rel=1e-12)
@@ -147,7 +147,7 @@ def test_spheroid_added_mass_matrix_uses_k_factors_on_displaced_mass_and_fluid_i
 
 
 def test_ellipsoid_rotational_coefficient_is_symmetric_in_the_two_other_axes():
-    """Swapping b and c swaps the y and z coefficients and leaves the x ones (Lamb §115 form is symmetric)."""
+    """Swapping b and c swaps the y and z coefficients and leaves the x ones (Lamb's rotational form is symmetric)."""
     k_lin1, k_rot1 = ellipsoid_added_mass_coefficients(0.5, 0.2, 0.3)
     k_lin2, k_rot2 = ellipsoid_added_mass_coefficients(0.5, 0.3, 0.2)
     np.testing.assert_allclose(k_lin1, k_lin2[[0, 2, 1]], rtol=1e-12)

@@ -1,8 +1,8 @@
 """Fossen's coefficient form of hydrodynamic damping: linear and quadratic, from SNAME-named coefficients.
 
-Fossen (*Handbook of Marine Craft Hydrodynamics and Motion Control*, 2nd ed., 2021, the chapters on hydrodynamic damping)
-writes the damping of an underwater vehicle as ``tau_D = -D(nu_r) nu_r`` with ``D(nu_r) = D_l + D_n(nu_r)``; in the common
-diagonal form ``D_l = -diag(X_u, Y_v, Z_w, K_p, M_q, N_r)`` and
+Fossen (*Handbook of Marine Craft Hydrodynamics and Motion Control*, 2nd ed., 2021, the chapters on
+hydrodynamic damping) writes the damping of an underwater vehicle as ``tau_D = -D(nu_r) nu_r`` with
+``D(nu_r) = D_l + D_n(nu_r)``; in the common diagonal form ``D_l = -diag(X_u, Y_v, Z_w, K_p, M_q, N_r)`` and
 ``D_n = -diag(X_u|u| |u|, Y_v|v| |v|, ..., N_r|r| |r|)``. The SNAME (1950) names are the derivatives of a force
 or moment (capital letter) with respect to a velocity (subscript), so a dissipative coefficient is negative
 (``X_u < 0``). Identification papers print them either way; :func:`damping_matrices` takes a ``convention``.

@@ -9,23 +9,20 @@ of a shape is its ``position``.
 
 What each shape provides, and where the formula comes from:
 
-========== ==================== ============================================ =========================================
-shape      volume               added mass (potential flow, about its centre) quadratic drag
-========== ==================== ============================================ =========================================
-sphere     ``4/3 pi a^3``       ``rho V / 2`` in translation, none in          ``-0.5 rho Cd pi a^2 |v| v`` at the centre
-                                rotation (Lamb 1932 §92; Newman 1977 §4.13)
-ellipsoid  ``4/3 pi a b c``     Lamb's inertia coefficients ``alpha0, beta0,  cross-flow strips along x (paper Eq. 6
-                                gamma0`` (Lamb 1932 §§114-115, §373; Imlay    generalised to an elliptic section) plus
-                                1961; Fossen 2021 §8.4.2)                      an axial term ``-0.5 rho Cd_ax pi b c
-                                                                             u|u|``
-cylinder   ``pi r^2 L``         strip theory ``rho pi r^2`` per unit length   Eq. 6 along the axis (reuses
-                                normal to the axis (Patel 1989, as            :func:`uvms.hydro.drag.link_drag_force`)
-                                :func:`uvms.hydro.added_mass.                 plus an axial term ``-0.5 rho Cd_ax pi
-                                cylinder_added_mass`); axial: approximation   r^2 u|u|``
-box        ``lx ly lz``         approximation: Lamb's ellipsoid coefficients  face by face (Eqs. 3-4 generalised),
-                                for the box's aspect ratios times the box's   exact integral of ``|v_n| v_n`` over the
-                                own displaced mass / fluid inertia            three projected faces
-========== ==================== ============================================ =========================================
+* **Sphere** (radius ``a``): volume ``4/3 pi a^3``; added mass ``rho V / 2`` in translation and none in
+  rotation (Lamb 1932; Newman 1977); drag ``-0.5 rho Cd pi a^2 |v| v`` at the centre.
+* **Ellipsoid** (semi-axes ``a, b, c``; a prolate spheroid for torpedo hulls): volume ``4/3 pi a b c``; added
+  mass from Lamb's inertia integrals ``alpha0, beta0, gamma0`` (Lamb 1918, 1932; Imlay 1961; Fossen 2021
+  §8.4.2); drag by cross-flow strips along x (the paper's Eq. 6 generalised to an elliptic section) plus an
+  axial term ``-0.5 rho Cd_ax pi b c u|u|``.
+* **Cylinder** (radius ``r``, length ``L``, any axis): volume ``pi r^2 L``; added mass by strip theory,
+  ``rho pi r^2`` per unit length normal to the axis (Patel 1989, as
+  :func:`uvms.hydro.added_mass.cylinder_added_mass`), along the axis a documented approximation; drag by
+  Eq. 6 along the axis (:func:`uvms.hydro.drag.link_drag_force`) plus an axial term
+  ``-0.5 rho Cd_ax pi r^2 u|u|``.
+* **Box** (edges ``lx, ly, lz``): volume ``lx ly lz``; added mass approximated by Lamb's ellipsoid
+  coefficients for the box's aspect ratios applied to the box's own displaced mass and fluid inertia; drag
+  face by face (Eqs. 3-4 generalised), the exact integral of ``|v_n| v_n`` over the three projected faces.
 
 Several shapes on one body add up. For buoyancy (volumes and volume-weighted centre) and drag (forces of
 independent strips) the sum is exact within the models; for added mass it is an approximation that ignores
@@ -36,12 +33,12 @@ dimensions and the pre-multiplied coefficients ``0.5 rho Cd (area)``), and the c
 :func:`shapes_drag_force` sums the drag of every row into one spatial force about the body origin, with scalar
 loops and no allocation (its scratch is the ``work`` array of :func:`drag_workspace`).
 
-References: H. Lamb, *Hydrodynamics*, 6th ed., 1932 (§92 sphere, §§114-115 ellipsoid, §373 spheroid table);
-H. Lamb, "The inertia-coefficients of an ellipsoid moving in fluid", ARC R&M 623, 1918; F. H. Imlay, "The
-complete expressions for added mass of a rigid body moving in an ideal fluid", DTMB report 1528, 1961;
-J. N. Newman, *Marine Hydrodynamics*, 1977; T. I. Fossen, *Handbook of Marine Craft Hydrodynamics and Motion
-Control*, 2nd ed., 2021; B. C. Carlson, "Numerical computation of real or complex elliptic integrals", Numer.
-Algorithms 10, 1995 (``R_D``).
+References: H. Lamb, *Hydrodynamics*, 6th ed., 1932 (the sphere and the ellipsoid moving through a liquid);
+H. Lamb, "The inertia-coefficients of an ellipsoid moving in fluid", ARC R&M 623, 1918 (``k1, k2, k'``
+formulas and table); F. H. Imlay, "The complete expressions for added mass of a rigid body moving in an
+ideal fluid", DTMB report 1528, 1961; J. N. Newman, *Marine Hydrodynamics*, 1977; T. I. Fossen,
+*Handbook of Marine Craft Hydrodynamics and Motion Control*, 2nd ed., 2021; B. C. Carlson, "Numerical
+computation of real or complex elliptic integrals", Numer. Algorithms 10, 1995 (``R_D``).
 """
 
 from __future__ import annotations
@@ -286,7 +283,7 @@ def transform_added_mass(M6: np.ndarray, R: np.ndarray, p: np.ndarray) -> np.nda
     and origin ``p`` in the body frame. The shape frame's velocity is ``nu_s = X nu_b`` with
     ``X = plucker(R^T, p)`` (:func:`uvms.spatial.plucker_from_pose`), so equal kinetic energy
     ``0.5 nu_s^T M6 nu_s = 0.5 nu_b^T (X^T M6 X) nu_b`` gives the congruence ``M_body = X^T M6 X``
-    (Featherstone 2008 §2.13, the same as a rigid-body inertia).
+    (Featherstone 2008, ch. 2: the same congruence as for a rigid-body inertia).
     """
     M6 = np.asarray(M6, dtype=float)
     if M6.shape != (6, 6):
@@ -296,7 +293,7 @@ def transform_added_mass(M6: np.ndarray, R: np.ndarray, p: np.ndarray) -> np.nda
 
 
 def ellipsoid_inertia_integrals(a: float, b: float, c: float) -> tuple[float, float, float]:
-    """Lamb's ``(alpha0, beta0, gamma0)`` of an ellipsoid with semi-axes ``a, b, c`` (Lamb 1932 §114).
+    """Lamb's ``(alpha0, beta0, gamma0)`` of an ellipsoid with semi-axes ``a, b, c`` (Lamb 1932; Lamb 1918).
 
     ``alpha0 = a b c int_0^inf dl / ((a^2 + l) Delta)``, ``Delta = sqrt((a^2+l)(b^2+l)(c^2+l))``, evaluated as
     ``(2/3) a b c R_D(b^2, c^2, a^2)`` with Carlson's symmetric integral ``R_D`` (``scipy.special.elliprd``);
@@ -312,8 +309,8 @@ def ellipsoid_inertia_integrals(a: float, b: float, c: float) -> tuple[float, fl
 def ellipsoid_added_mass_coefficients(a: float, b: float, c: float) -> tuple[np.ndarray, np.ndarray]:
     """Lamb's inertia coefficients of an ellipsoid: ``(k_lin, k_rot)``, each (3,) for the x, y, z axes.
 
-    Translation along axis i (Lamb 1932 §114): added mass ``k_i rho V`` with ``k_i = A_i / (2 - A_i)``
-    (``A = alpha0, beta0, gamma0``). Rotation about axis i, with (j, k) the other two axes (Lamb §115)::
+    Translation along axis i (Lamb 1932): added mass ``k_i rho V`` with ``k_i = A_i / (2 - A_i)``
+    (``A = alpha0, beta0, gamma0``). Rotation about axis i, with (j, k) the other two axes (Lamb 1932)::
 
         I'_i = (rho V / 5) (s_j^2 - s_k^2)^2 (A_k - A_j) / (2 (s_j^2 - s_k^2) + (s_j^2 + s_k^2)(A_j - A_k))
 
@@ -337,7 +334,7 @@ def ellipsoid_added_mass_coefficients(a: float, b: float, c: float) -> tuple[np.
 
 
 def lamb_k_factors(a: float, b: float) -> tuple[float, float, float]:
-    """Lamb's ``(k1, k2, k')`` of a prolate spheroid, semi-axes ``a > b`` (closed form, Lamb 1932 §373).
+    """Lamb's ``(k1, k2, k')`` of a prolate spheroid, semi-axes ``a > b`` (closed form, Lamb 1918).
 
     With ``e = sqrt(1 - (b/a)^2)``::
 
@@ -372,9 +369,9 @@ def _diagonal_added_mass(m_lin, I_rot) -> np.ndarray:
 def local_added_mass(shape: Shape, density: float) -> np.ndarray:
     """6x6 ``[angular; linear]`` added mass about the shape's centre, in shape axes (potential flow).
 
-    * Sphere: ``rho V / 2`` in translation, no rotational part (Lamb 1932 §92).
+    * Sphere: ``rho V / 2`` in translation, no rotational part (Lamb 1932).
     * Ellipsoid: ``k_i rho V`` in translation and ``k'_i I_i`` in rotation
-      (:func:`ellipsoid_added_mass_coefficients`); diagonal about the centre (Lamb §§114-115).
+      (:func:`ellipsoid_added_mass_coefficients`); diagonal about the centre (Lamb 1932).
     * Cylinder: strip theory, ``rho pi r^2`` per unit length normal to the axis
       (:func:`uvms.hydro.added_mass.cylinder_added_mass`, moved from the end to the centre, which gives
       ``rho pi r^2 L`` across and ``rho pi r^2 L^3 / 12`` in pitch/yaw and no coupling); no roll added inertia
