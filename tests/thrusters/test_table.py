@@ -103,8 +103,8 @@ def test_csv_in_newtons_or_kgf(tmp_path):
                                   time_constant=0.2, voltage=12.0)
     np.testing.assert_array_equal(newtons.thrust, [-2.0, 0.0, 3.0])
     assert newtons.voltage == 12.0 and newtons.source.endswith("thruster.csv")
-    kgf = load_thruster_table(write(tmp_path, "command_us,rpm,thrust_kgf\n1100,10,-1\n1900,20,2\n", "b.csv"),
-                              time_constant=0.2)
+    kgf = load_thruster_table(write(tmp_path, "\ufeffcommand_us,rpm,thrust_kgf\n1100,10,-1\n1900,20,2\n", "b.csv"),
+                              time_constant=0.2)                 # with the byte-order mark spreadsheets write
     np.testing.assert_allclose(kgf.thrust, [-KGF, 2 * KGF], rtol=1e-15)
 
 

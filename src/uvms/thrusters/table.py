@@ -174,7 +174,7 @@ def load_thruster_table(path: str | Path, *, time_constant: float,
     """
     source = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8-sig")   # a spreadsheet's byte-order mark is not data
     except (OSError, UnicodeDecodeError) as exc:
         raise UvmsInputError(f"cannot read the thrust table ({exc.__class__.__name__})", source) from None
     command, thrust = _parse_csv(text, source)
