@@ -38,9 +38,47 @@ def _style(ax: Axes, title: str, ylabel: str, xlabel: str = "time t [s]") -> Axe
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.4)
-    if ax.get_legend_handles_labels()[0]:
+    if len(ax.get_legend_handles_labels()[0]) > 1:      # a single entry says nothing the axis label does not
         ax.legend(fontsize="small", loc="best")
     return ax
+
+
+SMALL_LENGTH = 0.1
+"""[m] Lengths whose largest magnitude is below this are drawn in millimetres."""
+
+
+def length_unit(*values) -> tuple[float, str]:
+    """``(scale, unit)`` to draw lengths given in metres: ``(1e3, "mm")`` when every finite value is below
+    :data:`SMALL_LENGTH` in magnitude, else ``(1.0, "m")``."""
+    import numpy as np
+
+    finite = [np.abs(np.asarray(v, dtype=float)) for v in values]
+    peak = max((float(np.nanmax(v)) for v in finite if v.size and np.isfinite(v).any()), default=0.0)
+    return (1e3, "mm") if peak < SMALL_LENGTH else (1.0, "m")
+
+
+def draw_path(ax: Axes, north, east, *, color: str, label: str | None = None, linestyle: str = "-",
+              linewidth: float = 1.5, zorder: float = 2, markers: bool = True, arrows: int = 2) -> None:
+    """A path in the world's horizontal plane, drawn as a map: east to the right, north up (the one orientation
+    of every X-Y path in uvms: ``uvms plot`` and the paper's Figure 4). The start is a circle, the end a
+    square, and ``arrows`` arrowheads along the path (at equal arc-length fractions) show the direction."""
+    import numpy as np
+
+    north, east = np.asarray(north, dtype=float), np.asarray(east, dtype=float)
+    ax.plot(east, north, color=color, linestyle=linestyle, linewidth=linewidth, zorder=zorder, label=label)
+    if markers and north.size:
+        ax.plot(east[0], north[0], "o", color=color, markersize=6, zorder=zorder + 0.1, markerfacecolor="white")
+        ax.plot(east[-1], north[-1], "s", color=color, markersize=6, zorder=zorder + 0.1)
+    steps = np.hypot(np.diff(east), np.diff(north))
+    length = float(np.nansum(steps))
+    if arrows and length > 0:
+        arc = np.concatenate([[0.0], np.nancumsum(steps)])
+        for frac in (np.arange(arrows) + 1) / (arrows + 1):
+            k = int(min(np.searchsorted(arc, frac * length), len(arc) - 2))
+            j = int(min(np.searchsorted(arc, frac * length + 0.02 * length), len(arc) - 1))
+            if j > k:
+                ax.annotate("", xy=(east[j], north[j]), xytext=(east[k], north[k]), zorder=zorder + 0.2,
+                            arrowprops=dict(arrowstyle="-|>", color=color, lw=linewidth, mutation_scale=14))
 
 
 def _present(table, names) -> list[str]:
@@ -61,10 +99,11 @@ def controller_columns(table) -> list[str]:
 
 
 def plot_vehicle_position(ax: Axes, table) -> Axes:
-    """Vehicle position x, y, z in the world frame [m]."""
+    """Vehicle position x, y, z in the world frame [m, or mm when it stays within :data:`SMALL_LENGTH`]."""
+    scale, unit = length_unit(*(table[f"{a}_m"] for a in "xyz"))
     for axis, label in zip("xyz", ("x (north)", "y (east)", "z (down)")):
-        ax.plot(table["t_s"], table[f"{axis}_m"], label=label)
-    return _style(ax, "Vehicle position (world frame)", "position [m]")
+        ax.plot(table["t_s"], table[f"{axis}_m"] * scale, label=label)
+    return _style(ax, "Vehicle position (world frame)", f"position [{unit}]")
 
 
 def plot_euler_angles(ax: Axes, table) -> Axes:
@@ -91,14 +130,16 @@ def plot_joint_torques(ax: Axes, table) -> Axes:
 
 
 def plot_end_effector_path(ax: Axes, table) -> Axes:
-    """End-effector path in the world X-Y plane [m] (the paper's Figure 4), start and end marked."""
-    x, y = table["ee_x_m"], table["ee_y_m"]
-    ax.plot(x, y, label="end effector")
-    ax.plot(x.iloc[0], y.iloc[0], "o", color="tab:green", label="start")
-    ax.plot(x.iloc[-1], y.iloc[-1], "s", color="tab:red", label="end")
-    ax.plot(table["x_m"], table["y_m"], "--", color="tab:gray", label="vehicle centre")
+    """End-effector path in the world X-Y plane (the paper's Figure 4) as a map, east right and north up
+    (:func:`draw_path`), with the vehicle centre's path; start (circle), end (square), direction (arrows)."""
+    scale, unit = length_unit(table["ee_x_m"], table["ee_y_m"], table["x_m"], table["y_m"])
+    draw_path(ax, table["ee_x_m"] * scale, table["ee_y_m"] * scale, color="tab:blue", label="end effector")
+    draw_path(ax, table["x_m"] * scale, table["y_m"] * scale, color="tab:gray", linestyle="--",
+              label="vehicle centre", arrows=1)
+    ax.plot([], [], "o", color="0.3", markerfacecolor="white", label="start")
+    ax.plot([], [], "s", color="0.3", label="end")
     ax.set_aspect("equal", adjustable="datalim")
-    return _style(ax, "End-effector path (world X-Y plane)", "Y (east) [m]", xlabel="X (north) [m]")
+    return _style(ax, "End-effector path (world X-Y plane)", f"X (north) [{unit}]", xlabel=f"Y (east) [{unit}]")
 
 
 def plot_commanded_forces(ax: Axes, table) -> Axes:
@@ -116,14 +157,16 @@ def plot_commanded_moments(ax: Axes, table) -> Axes:
 
 
 def plot_signals(ax: Axes, table, names: list[str], *, title: str = "Controller signals",
-                 ylabel: str = "value [signal units]", strip: str = "") -> Axes:
-    """Named signal columns against time (``strip`` removed from the labels; at most 10 labelled)."""
+                 ylabel: str = "value [signal units]", strip: str = "", scale: float = 1.0) -> Axes:
+    """Named signal columns against time (``strip`` removed from the labels; at most 10 labelled), multiplied
+    by ``scale`` (a unit change, e.g. 1e3 for m -> mm)."""
     for k, c in enumerate(names):
-        ax.plot(table["t_s"], table[c], label=literal(c.removeprefix(strip)) if k < 10 else None)
+        ax.plot(table["t_s"], table[c] * scale, label=literal(c.removeprefix(strip)) if k < 10 else None)
     return _style(ax, title, ylabel)
 
 
-def plot_sliding_variables(ax: Axes, table, names: list[str]) -> Axes:
+def plot_sliding_variables(ax: Axes, table, names: list[str], *, ylabel: str = "s [m/s, rad/s]",
+                           title: str = "Sliding variables s and boundary layer") -> Axes:
     """Sliding variables ``s_<axis>`` and, when logged as ``Phi``, the boundary layer +/-Phi (dashed)."""
     for c in names:
         ax.plot(table["t_s"], table[c], label=literal(c))
@@ -131,16 +174,24 @@ def plot_sliding_variables(ax: Axes, table, names: list[str]) -> Axes:
         for sign in (1, -1):
             ax.plot(table["t_s"], sign * table["Phi"], "--", color="black", linewidth=0.8,
                     label="boundary layer \u00b1Phi" if sign > 0 else None)
-    return _style(ax, "Sliding variables s and boundary layer", "s [m/s, rad/s]")
+    return _style(ax, title, ylabel)
 
 
-_GROUPS = {  # signal prefix -> (panel title, y label), for the names the sliding-mode controllers log
-    "e": ("Station-keeping errors (body frame)", "error [m, rad]"),
-    "f_hat": ("Predicted acceleration f_hat (controller's model)", "f_hat [m/s^2, rad/s^2]"),
-    "k": ("Switching gains k", "k [m/s^2, rad/s^2]"),
-    "b_hat": ("Effective mass / inertia b_hat", "b_hat [kg, kg m^2]"),
+_GROUPS = {  # signal prefix -> (panel title, unit of the translational axes, unit of the rotational axes)
+    "e": ("Station-keeping errors (body frame)", "m", "rad"),
+    "f_hat": ("Predicted acceleration f_hat (controller's model)", "m/s^2", "rad/s^2"),
+    "k": ("Switching gains k", "m/s^2", "rad/s^2"),
+    "b_hat": ("Effective mass / inertia b_hat", "kg", "kg m^2"),
 }
 _AXIS_SUFFIX = re.compile(r"(.+)_(surge|sway|heave|roll|pitch|yaw|[xyzKMNXYZ])")
+_ROTATION = ("roll", "pitch", "yaw", "K", "M", "N")
+
+
+def split_by_unit(names: list[str]) -> tuple[list[str], list[str]]:
+    """Per-axis signal names split into translational (surge, sway, heave, X, Y, Z) and rotational (roll, pitch,
+    yaw, K, M, N) ones: one panel, one unit."""
+    rotational = [c for c in names if (m := _AXIS_SUFFIX.fullmatch(c)) and m.group(2) in _ROTATION]
+    return [c for c in names if c not in rotational], rotational
 
 
 def signal_groups(names: list[str]) -> dict[str, list[str]]:
@@ -169,14 +220,31 @@ def _panels(table) -> list[Callable[[Axes], Axes]]:
                               title="Commanded thrust per thruster", ylabel="thrust [N]"))
     residual = groups.pop("unachieved", [])
     if any(table[c].abs().max() > 1e-6 for c in residual):  # more than round-off
-        panels.append(partial(plot_signals, table=table, names=residual, strip="unachieved_",
-                              title="Unachieved wrench (thrust limits, allocation)", ylabel="force [N], moment [N m]"))
+        forces, moments = split_by_unit(residual)
+        for names, kind, unit in ((forces, "force", "N"), (moments, "moment", "N m")):
+            if names:
+                panels.append(partial(plot_signals, table=table, names=names, strip="unachieved_",
+                                      title=f"Unachieved {kind} (thrust limits, allocation)",
+                                      ylabel=f"{kind} [{unit}]"))
     if "s" in groups:
-        panels.append(partial(plot_sliding_variables, table=table, names=groups.pop("s")))
+        linear, angular = split_by_unit(groups.pop("s"))
+        for names, unit, part in ((linear, "m/s", "translation"), (angular, "rad/s", "rotation")):
+            if names:
+                panels.append(partial(plot_sliding_variables, table=table, names=names, ylabel=f"s [{unit}]",
+                                      title=f"Sliding variables s and boundary layer ({part})"))
         groups.pop("Phi", None)
-    for prefix, (title, ylabel) in _GROUPS.items():
-        if prefix in groups:
-            panels.append(partial(plot_signals, table=table, names=groups.pop(prefix), title=title, ylabel=ylabel))
+    for prefix, (title, unit_linear, unit_angular) in _GROUPS.items():
+        if prefix not in groups:
+            continue
+        linear, angular = split_by_unit(groups.pop(prefix))
+        for names, unit, part in ((linear, unit_linear, "translation"), (angular, unit_angular, "rotation")):
+            if not names:
+                continue
+            scale = 1.0
+            if unit == "m":
+                scale, unit = length_unit(*(table[c] for c in names))
+            panels.append(partial(plot_signals, table=table, names=names, title=f"{title}, {part}",
+                                  ylabel=f"{prefix} [{unit}]", scale=scale))
     other = [c for names in groups.values() for c in names if table[c].nunique(dropna=True) > 1]
     if other:  # constant signals (parameters logged every update) are left out
         panels.append(partial(plot_signals, table=table, names=other, title="Other controller signals"))

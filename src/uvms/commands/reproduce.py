@@ -1,11 +1,12 @@
-"""``uvms reproduce paper [-o DIR] [--actuators ideal|healey|paper-layout]``: the paper's Section 6."""
+"""``uvms reproduce paper [-o DIR] [--actuators ideal|healey|paper-layout] [--format png|svg|pdf]
+[--no-comparison] [--no-animation]``: the paper's Section 6 (``docs/reproduce.md``)."""
 
 from __future__ import annotations
 
 import argparse
 
 NAME = "reproduce"
-HELP = "reproduce the paper's simulations: figures 4-8, metrics.json, report.md/.html"
+HELP = "reproduce the paper's simulations: figures 4-8, time series, metrics.json, report.md/.html, animation"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -14,8 +15,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output folder (default: reproduce-paper)")
     parser.add_argument("--actuators", default="ideal", choices=["ideal", "healey", "paper-layout"],
                         help="ideal body wrench, Healey thrusters with a sway thruster, or the paper's 3 thrusters")
+    parser.add_argument("--format", default="png", choices=["png", "svg", "pdf"], dest="figure_format",
+                        help="file format of the figures (default: png)")
     parser.add_argument("--no-comparison", action="store_true",
                         help="skip the controller comparison table (24 extra runs)")
+    parser.add_argument("--no-animation", action="store_true",
+                        help="skip the 3-D replay of case 2 beside case 3 (animation_case2_vs_case3.html)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -34,8 +39,14 @@ def run(args: argparse.Namespace) -> int:
     def progress(message: str) -> None:
         console.print(f"[dim]{time.perf_counter() - t0:6.1f} s[/dim]  {message}")
 
+    import shlex
+
+    command = ["uvms", "reproduce", "paper", "-o", args.output, "--actuators", args.actuators,
+               "--format", args.figure_format] + (["--no-comparison"] if args.no_comparison else []) + (
+        ["--no-animation"] if args.no_animation else [])
     metrics = reproduce.paper(args.output, actuators=args.actuators, compare=not args.no_comparison,
-                              progress=progress)
+                              figure_format=args.figure_format, animation=not args.no_animation,
+                              command_line=shlex.join(command), progress=progress)
     out = Console()
     table = Table(title=f"Paper Section 6 ({args.actuators} actuators), epsilon = "
                         f"{metrics['epsilon_m'] * 1e3:.2f} mm")
@@ -51,7 +62,13 @@ def run(args: argparse.Namespace) -> int:
     for claim in metrics["claims"]:
         mark = "[green]holds[/green]" if claim["verdict"] == "holds" else "[red]does not hold[/red]"
         out.print(f"- {claim['claim']}: {mark} ({claim['measured']})")
-    out.print(f"Wrote {args.output}/ (figures, metrics.json, report.md, report.html) in "
+    central = metrics["central_claim"]
+    mark = "[green]holds[/green]" if central["verdict"] == "holds" else "[red]does not hold[/red]"
+    out.print(f"- central claim (smc-ab against smc-ne with an IMU): {mark}: {central['finding']}")
+    if metrics.get("paper_layout"):
+        failed = [c["claim"].split(":")[0] for c in metrics["paper_layout"]["claims"] if c["verdict"] != "holds"]
+        out.print(f"- with the paper's 3-thruster layout, {len(failed)} claims fail: {'; '.join(failed) or '-'}")
+    out.print(f"Wrote {args.output}/ (figures, cases/, metrics.json, report.md, report.html) in "
               f"{metrics['wall_time_s']:.1f} s")
     sys.stdout.flush()
     return 0
