@@ -87,7 +87,7 @@ def fig4_ee_path(results: dict, path) -> str:
         dev = {c: float(np.linalg.norm(results[c].end_effector - results["fixed"].end_effector, axis=1).max())
                for c in cases if c != "fixed"}
         note += ("; peak distance from the fixed-base path: "
-                 + ", ".join(f"{CASE_STYLE[c]['label'].split(', ', 1)[1]} {d * 1e3:.3g} mm" for c, d in dev.items()))
+                 + ", ".join(f"{c} {d * 1e3:.3g} mm" for c, d in dev.items()))
     _title(ax, "Fig. 4: end-effector path in the world X-Y plane", note.split("; ", 1)[-1], width=70)
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(True, alpha=0.3)
@@ -102,26 +102,27 @@ def _error_figure(result, series, title: str, path, *, epsilon: float | None = N
     fig, axes = plt.subplots(3, 1, figsize=(7.0, 6.6), sharex=True)
     t = result.time
     e = series["error"]
-    scale, unit = length_unit(e[:, :2])
+    units = [length_unit(e[:, j]) for j in range(2)]            # per panel: millimetres where small
     yaw = np.degrees(np.unwrap(e[:, 2]))                          # unwrapped past 180 deg
     peaks = [float(np.abs(e[:, 0]).max()), float(np.abs(e[:, 1]).max())]
     hidden = []
     for j, ax in enumerate(axes):
+        scale, unit = units[j] if j < 2 else (1.0, "deg")
         y = yaw if j == 2 else e[:, j] * scale
         ax.plot(t, y, color="tab:blue" if epsilon is not None else "tab:red", label="body-frame error")
         if epsilon is not None and j < 2:
             if peaks[j] >= VISIBLE * epsilon:
                 ax.axhline(epsilon * scale, color="0.4", linestyle=":", label=r"$\pm\varepsilon = \Phi/\lambda$")
                 ax.axhline(-epsilon * scale, color="0.4", linestyle=":")
-                if len(ax.get_legend_handles_labels()[0]) > 1:
-                    ax.legend(loc="best", fontsize=8)
+                ax.legend(loc="best", fontsize=8)
             else:
                 hidden.append("xy"[j])
-        ax.set_ylabel((f"{'xy'[j]} error [{unit}]") if j < 2 else "yaw error [deg]")
+        ax.set_ylabel(f"{'xy'[j]} error [{unit}]" if j < 2 else "yaw error [deg]")
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     peak_xy = float(np.hypot(e[:, 0], e[:, 1]).max())
-    note = (f"peak abs error x {peaks[0] * scale:.3g} {unit}, y {peaks[1] * scale:.3g} {unit}, "
+    note = (f"peak abs error x {peaks[0] * units[0][0]:.3g} {units[0][1]}, "
+            f"y {peaks[1] * units[1][0]:.3g} {units[1][1]}, "
             f"yaw {np.abs(yaw).max():.3g} deg")
     if epsilon is not None:
         ratio = peak_xy / epsilon
@@ -131,7 +132,7 @@ def _error_figure(result, series, title: str, path, *, epsilon: float | None = N
         if hidden:
             note += f" (not drawn on the {' and '.join(hidden)} panel{'s' if len(hidden) > 1 else ''}: "
             note += f"beyond {'their' if len(hidden) > 1 else 'its'} axes)"
-    _title(axes[0], title, note, width=95)
+    _title(axes[0], title, note, width=85)
     _save(fig, path)
     return note
 
@@ -175,7 +176,7 @@ def fig7_sliding(result, path, phi: float) -> str:
     if hidden:
         units = ", ".join(f"{phi * 1e3:.3g} {'mm/s' if a != 'yaw' else 'mrad/s'} ({a})" for a in hidden)
         note += f"; the boundary layer +/-Phi ({units}) is beyond the axes"
-    _title(axes[0], "Fig. 7: sliding variables and boundary layer", note, width=95)
+    _title(axes[0], "Fig. 7: sliding variables and boundary layer", note, width=85)
     _save(fig, path)
     return note
 
@@ -197,7 +198,7 @@ def fig8_control(result, path) -> str:
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     note = "commanded body wrench: " + "; ".join(parts)
-    _title(axes[0], "Fig. 8: control activity (commanded body wrench)", "; ".join(parts), width=95)
+    _title(axes[0], "Fig. 8: control activity (commanded body wrench)", "; ".join(parts), width=85)
     _save(fig, path)
     return note
 
