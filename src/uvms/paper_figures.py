@@ -217,7 +217,7 @@ def case_animation(released, controlled, model, path, *, fixed=None, thrusters=N
     from uvms.view.plotly_html import moving_points, moving_traces, scene_layout, world_traces, write_html
     from uvms.view.scene import equal_ranges
 
-    runs = (("case 2: released, control off", released, None),
+    runs = (("case 2: released, control off", released, ()),          # no control, no thrusters drawn
             ("case 3: released, control on (smc-ab)", controlled, thrusters))
     replays = [replay(res, model, fps=fps, max_frames=max_frames, thrusters=th, title=name)
                for name, res, th in runs]
@@ -265,10 +265,10 @@ def case_animation(released, controlled, model, path, *, fixed=None, thrusters=N
     title = "Paper Section 6: case 2 (left) and case 3 (right), the same time, the same axes"
     layout = scene_layout(ranges, title)
     left, right = dict(layout["scene"]), dict(layout["scene"])
-    left["domain"] = dict(x=[0.0, 0.5], y=[0.08, 0.95])
-    right["domain"] = dict(x=[0.5, 1.0], y=[0.08, 0.95])
+    left["domain"] = dict(x=[0.15, 0.575], y=[0.08, 0.95])               # the legend on the left of both
+    right["domain"] = dict(x=[0.575, 1.0], y=[0.08, 0.95])
     layout["scene"], layout["scene2"] = left, right
-    layout["annotations"] = [dict(text=rp.title, x=0.25 + 0.5 * i, y=0.97, xref="paper", yref="paper",
+    layout["annotations"] = [dict(text=rp.title, x=0.3625 + 0.425 * i, y=0.97, xref="paper", yref="paper",
                                   showarrow=False, font=dict(size=12)) for i, rp in enumerate(replays)]
     ms = 1000.0 / replays[0].fps
     play = dict(label="\u25b6 play", method="animate",
