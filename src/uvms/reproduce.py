@@ -92,9 +92,9 @@ def _simulate_case(model, case: str, actuators: str, *, boundary_layer: float = 
         actuation = Actuation.named(ACTUATORS[actuators])
     return simulate(model, duration=spec.duration, step=spec.step, integrator=spec.integrator,
                     joint_torques=spec.inputs.torque_schedule(), fixed_base=scenario.fixed_base,
-                    controller=controller, actuation=actuation, control_period=period, metadata={"case": case, "actuators": actuators,
-                                                     "scenario": scenario.name, "vehicle": spec.vehicle,
-                                                     "controller": spec.controller.name if controller else None})
+                    controller=controller, actuation=actuation, control_period=period,
+                    metadata={"case": case, "actuators": actuators, "scenario": scenario.name,
+                              "vehicle": spec.vehicle, "controller": spec.controller.name if controller else None})
 
 
 def case_metrics(result, fixed, *, bandwidth: float = PAPER_LAMBDA, phi: float = PAPER_PHI) -> dict[str, Any]:
@@ -769,8 +769,9 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
                                                         _claim_rows([central] + rows))]))
     ab, ne = central["smc-ab"], central["smc-ne (noisy IMU)"]
     sections.append(Section("The central claim: articulated body against Newton-Euler with an IMU", [
-        f"Verdict: the claim **{central['verdict']}**: {central['finding']}. Measured: {central['details']}. smc-ne gets its accelerations from an "
-        f"IMU with {IMU_NOISE['imu_noise']} m/s^2 (rad/s^2) white noise, {IMU_NOISE['imu_delay']} samples late; "
+        f"Verdict: the claim **{central['verdict']}**: {central['finding']}. Measured: {central['details']}. "
+        f"smc-ne gets its accelerations from an IMU with {IMU_NOISE['imu_noise']} m/s^2 (rad/s^2) white noise, "
+        f"{IMU_NOISE['imu_delay']} samples late; "
         f"both controllers use the same model error ({PAPER_MODEL_ERROR}x), actuators and gains. Precision counts "
         f"as the same within {SAME_PRECISION * 100:.0f} %, chatter as more from {CHATTER_RATIO:g} x the slope sign "
         "changes on.",
