@@ -820,7 +820,8 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
             "replay of both runs on one time slider, each with its vehicle and end-effector trails and the fixed "
             "case's end-effector path (dashed) for reference."]))
     sections.append(Section("Time series", [
-        f"Every run of this report is saved in `{CASE_FOLDER}/<name>/result.csv` (one column per series, SI "
+        f"Every run behind the claims, figures and animation (not the comparison's runs: their numbers are in "
+        f"`comparison.csv`) is saved in `{CASE_FOLDER}/<name>/result.csv` (one column per series, SI "
         "units in the names) with a `result.json` summary; `uvms.Result.load(folder)` reads one back and "
         "`uvms plot` draws it.",
         Bullets([f"[{path}]({path}/result.csv)" for path in metrics["time_series"].values()])]))
