@@ -1,8 +1,10 @@
 """Flat arrays of a :class:`~uvms.model.Model` for the compiled kernels, and their preallocated workspace.
 
-Built once per model (:func:`kernel_model_from`); the kernels never allocate (``shared/performance.md``).
-Body 0 is the vehicle, bodies 1..n the links; index 0 of per-joint arrays is unused padding so that
-body ``i`` and joint ``i`` share an index, as in Featherstone's ``model.parent(i)``.
+Built once per model (:func:`kernel_model_from`); the kernels never allocate (one workspace per run).
+Body 0 is the vehicle, bodies 1..n the links of a kinematic tree (``parent[i] < i``); index 0 of per-joint
+arrays is unused padding so that body ``i`` and its joint share an index, as in Featherstone's
+``model.parent(i)``. Joint ``i``'s motion subspace is the unit 6-vector ``S_i`` (``[axis; 0]`` revolute,
+``[0; axis]`` prismatic, in the body frame, which is the joint frame).
 """
 
 from __future__ import annotations
@@ -20,7 +22,12 @@ class KernelModel(NamedTuple):
     parent: np.ndarray          # (nb,) int64, parent body index, -1 for the vehicle
     tree_E: np.ndarray          # (nb, 3, 3) parent-to-joint-frame coordinate rotation (before the joint angle)
     tree_r: np.ndarray          # (nb, 3) joint-frame origin in parent coordinates [m]
-    theta_offset: np.ndarray    # (nb,) modified-DH theta offset [rad]
+    theta_offset: np.ndarray    # (nb,) joint offset (modified-DH theta offset) [rad or m]
+    S: np.ndarray               # (nb, 6) motion subspace of each joint, body axes (row 0 unused)
+    prismatic: np.ndarray       # (nb,) bool, joint i is prismatic (translation along its axis)
+    joint_damping: np.ndarray   # (nb,) viscous damping b [N m s/rad or N s/m]
+    joint_friction: np.ndarray  # (nb,) Coulomb friction F_c [N m or N]
+    friction_speed: np.ndarray  # (nb,) regularisation speed v_s of the Coulomb law [rad/s or m/s]
     inertia: np.ndarray         # (nb, 6, 6) rigid spatial inertia about the body origin
     inertia_h: np.ndarray       # (nb, 6, 6) hydrodynamic inertia I + I_A (Eq. 13's I^H)
     added_mass: np.ndarray      # (nb, 6, 6) I_A about the body origin (Eq. 2)
@@ -32,8 +39,11 @@ class KernelModel(NamedTuple):
     vehicle_drag_angular: np.ndarray    # (3,) rho Cd a^5 / 32 [kg m^2] (Eq. 4, closed form)
     link_drag: np.ndarray       # (nb,) 0.5 rho Cd (2 r) per unit length [kg/m^2] (Eq. 6)
     link_length: np.ndarray     # (nb,) cylinder length L [m]
-    ee_E: np.ndarray            # (3, 3) last-link-to-end-effector coordinate rotation
-    ee_r: np.ndarray            # (3,) end-effector origin in last-link coordinates [m]
+    cyl_E: np.ndarray           # (nb, 3, 3) body-to-cylinder coordinate rotation (cylinder along its x)
+    cyl_o: np.ndarray           # (nb, 3) cylinder origin in body coordinates [m]
+    ee_body: np.ndarray         # (1,) int64, the body the end effector is fixed in
+    ee_E: np.ndarray            # (3, 3) body-to-end-effector coordinate rotation
+    ee_r: np.ndarray            # (3,) end-effector origin in body coordinates [m]
     gravity: np.ndarray         # (3,) world gravitational acceleration a_g [m/s^2]
 
 
@@ -42,6 +52,7 @@ class Workspace(NamedTuple):
 
     Xup: np.ndarray     # (nb, 6, 6) motion transform parent -> body i
     E: np.ndarray       # (nb, 3, 3) parent-to-body coordinate rotation
+    r: np.ndarray       # (nb, 3) body origin in parent coordinates [m]
     v: np.ndarray       # (nb, 6) body spatial velocity
     c: np.ndarray       # (nb, 6) velocity-product acceleration v_i x S qd_i
     a: np.ndarray       # (nb, 6) body spatial acceleration
@@ -54,7 +65,7 @@ class Workspace(NamedTuple):
     vc: np.ndarray      # (nb, 3) current velocity in body axes
     af: np.ndarray      # (nb, 3) fluid acceleration in body axes
     m6: np.ndarray      # (3, 6, 6) scratch matrices
-    w6: np.ndarray      # (4, 6) scratch vectors
+    w6: np.ndarray      # (5, 6) scratch vectors
     f4: np.ndarray      # (4, 6) one body's named forces: added mass, drag, buoyancy, gravity
 
 
@@ -63,15 +74,28 @@ def kernel_model_from(model) -> KernelModel:
     nb = model.n_bodies
     n = nb - 1
     rho = model.density
-    parent = np.arange(-1, n, dtype=np.int64)
+    parent = np.full(nb, -1, dtype=np.int64)
+    parent[1:] = model.joint_parent
     tree_E = np.zeros((nb, 3, 3))
     tree_E[0] = np.eye(3)
     tree_r = np.zeros((nb, 3))
     theta_offset = np.zeros(nb)
+    S = np.zeros((nb, 6))
+    prismatic = np.zeros(nb, dtype=np.bool_)
+    cyl_E = np.tile(np.eye(3), (nb, 1, 1))
+    cyl_o = np.zeros((nb, 3))
     for i in range(1, nb):
         tree_E[i] = model.joint_rotation[i - 1].T
         tree_r[i] = model.joint_position[i - 1]
         theta_offset[i] = model.theta_offset[i - 1]
+        prismatic[i] = model.joint_type[i - 1] == "prismatic"
+        (S[i, 3:6] if prismatic[i] else S[i, 0:3])[:] = model.joint_axis[i - 1]
+        cyl_E[i] = model.link_cylinder_rotation[i - 1].T
+        cyl_o[i] = model.link_cylinder_origin[i - 1]
+    joint_damping, joint_friction, friction_speed = np.zeros(nb), np.zeros(nb), np.ones(nb)
+    joint_damping[1:] = model.joint_damping
+    joint_friction[1:] = model.joint_friction
+    friction_speed[1:] = model.joint_friction_speed
     inertia = np.stack([spatial_inertia(model.mass[i], model.com[i], model.inertia_com[i]) for i in range(nb)])
     added_mass = np.array(model.added_mass, dtype=float)
     link_drag = np.zeros(nb)
@@ -84,6 +108,11 @@ def kernel_model_from(model) -> KernelModel:
         tree_E=tree_E,
         tree_r=tree_r,
         theta_offset=theta_offset,
+        S=S,
+        prismatic=prismatic,
+        joint_damping=joint_damping,
+        joint_friction=joint_friction,
+        friction_speed=friction_speed,
         inertia=inertia,
         inertia_h=inertia + added_mass,
         added_mass=added_mass,
@@ -95,6 +124,9 @@ def kernel_model_from(model) -> KernelModel:
         vehicle_drag_angular=np.full(3, rho * model.vehicle_rotational_drag_coefficient * a**5 / 32.0),
         link_drag=link_drag,
         link_length=link_length,
+        cyl_E=cyl_E,
+        cyl_o=cyl_o,
+        ee_body=np.array([model.ee_body], dtype=np.int64),
         ee_E=np.array(model.ee_rotation, dtype=float).T.copy(),
         ee_r=np.array(model.ee_position, dtype=float),
         gravity=np.array(model.gravity, dtype=float),
@@ -105,8 +137,8 @@ def make_workspace(n_bodies: int) -> Workspace:
     """Allocate the scratch arrays for a model with ``n_bodies`` bodies."""
     nb = n_bodies
     return Workspace(
-        Xup=np.zeros((nb, 6, 6)), E=np.zeros((nb, 3, 3)), v=np.zeros((nb, 6)), c=np.zeros((nb, 6)),
+        Xup=np.zeros((nb, 6, 6)), E=np.zeros((nb, 3, 3)), r=np.zeros((nb, 3)), v=np.zeros((nb, 6)), c=np.zeros((nb, 6)),
         a=np.zeros((nb, 6)), IA=np.zeros((nb, 6, 6)), pA=np.zeros((nb, 6)), U=np.zeros((nb, 6)),
         d=np.zeros(nb), u=np.zeros(nb), g=np.zeros((nb, 3)), vc=np.zeros((nb, 3)), af=np.zeros((nb, 3)),
-        m6=np.zeros((3, 6, 6)), w6=np.zeros((4, 6)), f4=np.zeros((4, 6)),
+        m6=np.zeros((3, 6, 6)), w6=np.zeros((5, 6)), f4=np.zeros((4, 6)),
     )
