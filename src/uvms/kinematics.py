@@ -8,6 +8,7 @@ default), and a named frame (:class:`uvms.model.model.Frame`) is fixed in its bo
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -92,6 +93,39 @@ def forward_kinematics(model, state) -> Poses:
 def end_effector_position(model, state) -> np.ndarray:
     """End-effector position in the world frame (3,) [m]."""
     return forward_kinematics(model, state).end_effector_position
+
+
+class FramePose(NamedTuple):
+    """World pose of a named frame: ``position`` (3,) [m] and ``rotation`` (3, 3), frame to world."""
+
+    position: np.ndarray
+    rotation: np.ndarray
+
+
+def frame_pose(model, state, name: str) -> FramePose:
+    """World position and rotation of the named frame (a link, a link merged by a fixed joint, or
+    ``"end_effector"``; ``model.frame_names`` lists them): ``R = R_b R_f``, ``p = p_b + R_b p_f`` for a frame
+    with pose ``(R_f, p_f)`` in body ``b``.
+
+    Raises:
+        UvmsInputError: no frame of that name (the message lists the names).
+    """
+    from uvms.errors import UvmsInputError
+
+    try:
+        frame = model.frame(name)
+    except KeyError as exc:
+        raise UvmsInputError(str(exc.args[0])) from None
+    poses = forward_kinematics(model, state)
+    R_b, p_b = poses.rotation[frame.body], poses.position[frame.body]
+    return FramePose(position=p_b + R_b @ frame.position, rotation=R_b @ frame.rotation)
+
+
+def frame_poses(model, state) -> dict[str, FramePose]:
+    """World pose of every named frame, by name (one forward-kinematics pass)."""
+    poses = forward_kinematics(model, state)
+    return {f.name: FramePose(poses.position[f.body] + poses.rotation[f.body] @ f.position,
+                              poses.rotation[f.body] @ f.rotation) for f in model.frames}
 
 
 @njit(cache=True)

@@ -111,3 +111,60 @@ def body_wrench_force(body_wrench):
 
     f = np.asarray(body_wrench, dtype=float)
     return pin.Force(f[3:6].copy(), f[0:3].copy())
+
+
+class JointMap:
+    """Index maps between a uvms model and a Pinocchio free-flyer model of the same robot, joints matched by
+    name (for models built by ``pinocchio.buildModelFromUrdf(path, pinocchio.JointModelFreeFlyer())``).
+
+    Pinocchio orders joints its own way and stores a continuous joint as ``(cos q, sin q)`` in its
+    configuration; uvms keeps ``q`` in its tree order (``model.joint_names``) with one angle per joint.
+    ``perm`` lists, for each uvms velocity index ``[angular; linear; joints]``, the Pinocchio velocity index.
+    """
+
+    def __init__(self, model, pin_model) -> None:
+        n = model.n_joints
+        self.idx_q = np.zeros(n, dtype=int)
+        self.nq = np.zeros(n, dtype=int)
+        idx_v = np.zeros(n, dtype=int)
+        for k, name in enumerate(model.joint_names):
+            if not pin_model.existJointName(name):
+                raise KeyError(f"the Pinocchio model has no joint {name!r}")
+            joint = pin_model.joints[pin_model.getJointId(name)]
+            if joint.nv != 1:
+                raise ValueError(f"joint {name!r} has {joint.nv} velocity coordinates in Pinocchio, expected 1")
+            self.idx_q[k], self.nq[k], idx_v[k] = joint.idx_q, joint.nq, joint.idx_v
+        if pin_model.nv != 6 + n:
+            raise ValueError(f"the Pinocchio model has nv = {pin_model.nv}, expected 6 + {n}")
+        self.nq_total = pin_model.nq
+        self.perm = np.concatenate([[3, 4, 5, 0, 1, 2], idx_v])
+
+    def configuration(self, state) -> np.ndarray:
+        """Pinocchio ``q``: ``[x, y, z, qx, qy, qz, qw]`` then each joint (``cos, sin`` for continuous)."""
+        x = np.zeros(self.nq_total)
+        w, qx, qy, qz = state.quaternion
+        x[:7] = np.concatenate([state.position, [qx, qy, qz, w]])
+        for k, value in enumerate(np.asarray(state.q, dtype=float)):
+            if self.nq[k] == 2:
+                x[self.idx_q[k]], x[self.idx_q[k] + 1] = np.cos(value), np.sin(value)
+            else:
+                x[self.idx_q[k]] = value
+        return x
+
+    def to_pinocchio(self, generalized) -> np.ndarray:
+        """A uvms ``[angular; linear; joints]`` vector in Pinocchio's velocity order."""
+        out = np.zeros(self.perm.size)
+        out[self.perm] = np.asarray(generalized, dtype=float)
+        return out
+
+    def velocity(self, state) -> np.ndarray:
+        """Pinocchio ``v`` (``[v; omega]`` local frame, then the joint rates in Pinocchio's order)."""
+        return self.to_pinocchio(state.generalized_velocity)
+
+    def from_pinocchio(self, x) -> np.ndarray:
+        """A Pinocchio velocity-space vector (``v``, ``ddq``, ``tau``) in uvms order."""
+        return np.asarray(x, dtype=float)[self.perm]
+
+    def matrix_from_pinocchio(self, M) -> np.ndarray:
+        """An ``nv x nv`` Pinocchio matrix (e.g. ``crba``) in uvms order."""
+        return np.asarray(M, dtype=float)[np.ix_(self.perm, self.perm)]
