@@ -8,10 +8,12 @@ Euler angles and the rotation matrix are derived on request.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from uvms.errors import UvmsInputError
 from uvms.rotations import euler_from_quaternion, quaternion_from_euler, rotation_from_quaternion
 
 
@@ -23,6 +25,19 @@ def _vector(value, size: int, name: str) -> np.ndarray:
         raise ValueError(f"state.{name}: values must be finite")
     a.setflags(write=False)
     return a
+
+
+def _by_joint_name(model, value, name: str):
+    """A ``{joint name: value}`` mapping as a list in ``model.joint_names`` order (other values unchanged)."""
+    if not isinstance(value, Mapping):
+        return value
+    out = np.zeros(model.n_joints)
+    for joint, x in value.items():
+        if joint not in model.joint_names:
+            raise UvmsInputError(f"state.{name}: model {model.name!r} has no joint {joint!r}; joints: "
+                             f"{', '.join(model.joint_names) or '(none)'}")
+        out[model.joint_names.index(joint)] = x
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,8 +68,14 @@ class State:
 
     @classmethod
     def from_euler(cls, model, *, position=None, euler=None, nu=None, q=None, qd=None, actuator=None) -> "State":
-        """A state from ZYX Euler angles ``(phi, theta, psi)`` [rad]; omitted values are zero."""
+        """A state from ZYX Euler angles ``(phi, theta, psi)`` [rad]; omitted values are zero.
+
+        ``q`` and ``qd`` are lists in the order of ``model.joint_names`` (the tree order), or mappings
+        ``{joint name: value}`` in which omitted joints are zero.
+        """
         n = model.n_joints
+        q = _by_joint_name(model, q, "q")
+        qd = _by_joint_name(model, qd, "qd")
         euler = _vector(euler, 3, "euler")
         return cls(
             position=_vector(position, 3, "position"),

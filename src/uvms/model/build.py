@@ -80,10 +80,11 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
 
 
 def _cylinder_rotation(axis) -> np.ndarray:
-    """A rotation whose x column is the unit ``axis`` (the others complete a right-handed frame)."""
+    """A rotation whose x column is the unit ``axis``; y is the link's y (or z, for an axis near y) made
+    orthogonal to it, so that an axis along x gives the identity (Eq. 6's drag is axisymmetric anyway)."""
     x = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-    helper = np.eye(3)[int(np.argmin(np.abs(x)))]
-    y = np.cross(x, helper)
+    helper = np.eye(3)[1] if abs(x[1]) < 0.9 else np.eye(3)[2]
+    y = helper - (helper @ x) * x
     y /= np.linalg.norm(y)
     return np.column_stack([x, y, np.cross(x, y)])
 

@@ -361,6 +361,8 @@ def _assemble(bodies, axes, frames, extras: VehicleExtras, robot_name: str, sour
     cob = np.zeros((nb, 3))
     for i, body in enumerate(bodies_sorted):
         mass[i], com[i], inertia_com[i] = _mass_properties(body.inertia)
+        if body.fluid_mass > 0.0:
+            cob[i] = body.fluid_moment / body.fluid_mass
     carried = mass.copy()                      # mass of each body and everything it carries
     for i in range(nb - 1, 0, -1):
         carried[bodies_sorted[i].parent] += carried[i]
@@ -370,8 +372,6 @@ def _assemble(bodies, axes, frames, extras: VehicleExtras, robot_name: str, sour
             raise UvmsInputError(f"expected mass > 0 on link {body.link!r} (moved by joint {body.joint.name!r}) "
                                  "or on the links it carries, found none: a joint must move some mass", source,
                                  f"link {body.link!r}")
-        if body.fluid_mass > 0.0:
-            cob[i] = body.fluid_moment / body.fluid_mass
     joints = [b.joint for b in bodies_sorted[1:]]
     joint_axis = np.array(axes).reshape(n, 3)
     limits = np.tile([-np.inf, np.inf, np.inf, np.inf], (n, 1))
