@@ -344,3 +344,17 @@ def test_validate_summarises_a_urdf(tmp_path, capsys):
         assert main(["validate", str(tmp_path / "tree.urdf")]) == 0
     out = capsys.readouterr().out
     assert "rov: valid" in out and "joints:               3" in out
+
+
+def test_joint_limits_reported_when_a_run_crosses_them(tree):
+    """a1 has limits [-1, 1.5] rad, 2 rad/s, 20 N m: a 30 N m torque crosses the effort limit at once and the
+    position and velocity limits later; nothing stops the joint (limits are reported, not enforced)."""
+    with pytest.warns(UserWarning, match="joint 'a1' crossed its position limit"):
+        result = uvms.simulate(tree, duration=1.0, step=1e-3, fixed_base=True, joint_torques=np.array([30.0, 0, 0]))
+    lines = result.metadata["joint_limit_crossings"]
+    assert any(line.startswith("joint 'a1' crossed its effort limit +/-20 at t = 0 s") for line in lines)
+    assert any("joint 'a1' crossed its velocity limit +/-2" in line for line in lines)
+    assert not any("'b1'" in line for line in lines)      # (a2 slides out past 0.1 m: centrifugal force)
+    assert result.states[-1, 13] > 1.5
+    quiet = uvms.simulate(tree, duration=0.1, step=1e-3, fixed_base=True, joint_torques=np.array([1.0, 0, 0]))
+    assert "joint_limit_crossings" not in quiet.metadata

@@ -428,7 +428,7 @@ def _assemble(bodies, axes, frames, extras: VehicleExtras, robot_name: str, sour
     frame_list.append(Frame(END_EFFECTOR, ee.body, ee.rotation, ee.position))
     return Model(
         name=extras.name or robot_name or Path(source).stem,
-        source=source,
+        source=extras.source or source,
         body_names=tuple(b.link for b in bodies_sorted),
         mass=mass, com=com, inertia_com=inertia_com,
         added_mass=np.array([b.added_mass for b in bodies_sorted]),
