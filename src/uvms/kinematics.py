@@ -43,11 +43,10 @@ def link_poses(km, R0, p0, q, R_out, p_out, E, r, X):
     for i in range(1, nb + 1):
         if i < nb:
             p = km.parent[i]
-            Si = km.S[i]
-            joint_transform(km.tree_E[i], km.tree_r[i], Si[3:6] if km.prismatic[i] else Si[0:3], km.prismatic[i],
-                            q[i - 1] + km.theta_offset[i], E, r, X)
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, 0],
+                            E, r, X)
         else:
-            p = km.ee_body[0]
+            p = km.ee_body
             for a in range(3):
                 r[a] = km.ee_r[a]
                 for b in range(3):

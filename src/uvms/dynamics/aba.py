@@ -5,7 +5,7 @@ Three passes, in the book's symbols (``S_i`` the joint's unit motion subspace; `
 
 1. outward (:func:`uvms.dynamics.passes.outward_pass`): ``Xup, v, c`` and ``IA_i = I^H_i``, ``pA_i = beta^H``
 2. inward, tip to base (Eqs. 13-14), ``tau_p`` the joint's damping and friction
-   (:func:`uvms.dynamics.passes.passive_joint_force`)::
+   (:func:`uvms.dynamics.passes.passive_joint_force`, left in ``u`` by the outward pass)::
 
        U_i = IA_i S     d_i = S^T U_i     u_i = tau_i + tau_p,i - S^T pA_i
        Ia = IA_i - U_i U_i^T / d_i        pa = pA_i + Ia c_i + U_i u_i / d_i
@@ -24,7 +24,7 @@ from __future__ import annotations
 from numba import njit
 
 from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, mat6_vec, mat6T_vec_add
-from uvms.dynamics.passes import apply_external, outward_pass, passive_joint_force
+from uvms.dynamics.passes import apply_external, outward_pass
 
 
 @njit(cache=True)
@@ -42,21 +42,25 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
         p = km.parent[i]
         IA = ws.IA[i]
         U = ws.U[i]
-        S = km.S[i]
-        for k in range(6):
-            s = 0.0
-            for j in range(6):
-                s += IA[k, j] * S[j]
-            U[k] = s
-        d = 0.0
-        sp = 0.0
-        for k in range(6):
-            d += S[k] * U[k]
-            sp += S[k] * ws.pA[i, k]
+        if km.joint_kind[i] == 0:               # S = e_z (modified DH): S^T x = x[2], IA S = IA[:, 2]
+            for k in range(6):
+                U[k] = IA[k, 2]
+            d = U[2]
+            sp = ws.pA[i, 2]
+        else:
+            S = km.S[i]
+            for k in range(6):
+                s = 0.0
+                for j in range(6):
+                    s += IA[k, j] * S[j]
+                U[k] = s
+            d = 0.0
+            sp = 0.0
+            for k in range(6):
+                d += S[k] * U[k]
+                sp += S[k] * ws.pA[i, k]
         ws.d[i] = d
-        tau_i = tau[i - 1] + passive_joint_force(km.joint_damping[i], km.joint_friction[i], km.friction_speed[i],
-                                                 qd[i - 1])
-        ws.u[i] = tau_i - sp
+        ws.u[i] = (tau[i - 1] + ws.u[i]) - sp
         inv_d = 1.0 / ws.d[i]
         for r in range(6):
             Ur = U[r] * inv_d
@@ -88,5 +92,8 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
             ai[k] += ws.c[i, k]
             s += ws.U[i, k] * ai[k]
         qdd[i - 1] = (ws.u[i] - s) / ws.d[i]
-        for k in range(6):
-            ai[k] += km.S[i, k] * qdd[i - 1]
+        if km.joint_kind[i] == 0:
+            ai[2] += qdd[i - 1]
+        else:
+            for k in range(6):
+                ai[k] += km.S[i, k] * qdd[i - 1]

@@ -17,8 +17,10 @@ from uvms.dynamics.passes import joint_transform
 
 
 @njit(cache=True, inline="always")
-def sdot(S, x):
-    """``S^T x`` for 6-vectors."""
+def sdot(kind, S, x):
+    """``S^T x`` for 6-vectors (``x[2]`` for a joint about z, ``kind == JOINT_Z``)."""
+    if kind == 0:
+        return x[2]
     s = 0.0
     for k in range(6):
         s += S[k] * x[k]
@@ -31,9 +33,8 @@ def crba(km, ws, q, M):
     nb = km.parent.shape[0]
     for i in range(nb):
         if i > 0:
-            Si = km.S[i]
-            joint_transform(km.tree_E[i], km.tree_r[i], Si[3:6] if km.prismatic[i] else Si[0:3], km.prismatic[i],
-                            q[i - 1] + km.theta_offset[i], ws.E[i], ws.r[i], ws.Xup[i])
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, 0],
+                            ws.E[i], ws.r[i], ws.Xup[i])
         for r in range(6):
             for k in range(6):
                 ws.IA[i, r, k] = km.inertia_h[i, r, k]
@@ -50,12 +51,16 @@ def crba(km, ws, q, M):
     F = ws.w6[0]
     G = ws.w6[1]
     for i in range(1, nb):
-        for k in range(6):
-            s = 0.0
-            for m in range(6):
-                s += ws.IA[i, k, m] * km.S[i, m]
-            F[k] = s
-        M[5 + i, 5 + i] = sdot(km.S[i], F)
+        if km.joint_kind[i] == 0:
+            for k in range(6):
+                F[k] = ws.IA[i, k, 2]
+        else:
+            for k in range(6):
+                s = 0.0
+                for m in range(6):
+                    s += ws.IA[i, k, m] * km.S[i, m]
+                F[k] = s
+        M[5 + i, 5 + i] = sdot(km.joint_kind[i], km.S[i], F)
         j = i
         while km.parent[j] > 0:
             for k in range(6):
@@ -64,7 +69,7 @@ def crba(km, ws, q, M):
             for k in range(6):
                 F[k] = G[k]
             j = km.parent[j]
-            h = sdot(km.S[j], F)
+            h = sdot(km.joint_kind[j], km.S[j], F)
             M[5 + i, 5 + j] = h
             M[5 + j, 5 + i] = h
         for k in range(6):

@@ -15,6 +15,17 @@ import numpy as np
 
 from uvms.spatial import spatial_inertia
 
+JOINT_Z = 0
+"""Joint kind: revolute about the joint frame's z axis (every modified-DH joint); the kernels' fast path."""
+JOINT_REVOLUTE = 1
+"""Joint kind: revolute (or continuous) about any unit axis."""
+JOINT_PRISMATIC = 2
+"""Joint kind: prismatic along any unit axis."""
+
+JOINT_OFFSET, DAMPING, FRICTION, INV_SPEED = 0, 1, 2, 3
+"""Columns of :attr:`KernelModel.joint`. (The kernel model packs small per-body parameters into few arrays:
+every array of the named tuple costs time on each kernel call.)"""
+
 
 class KernelModel(NamedTuple):
     """Model arrays read by the kernels. Shapes use ``nb = n + 1`` bodies; units SI."""
@@ -22,12 +33,11 @@ class KernelModel(NamedTuple):
     parent: np.ndarray          # (nb,) int64, parent body index, -1 for the vehicle
     tree_E: np.ndarray          # (nb, 3, 3) parent-to-joint-frame coordinate rotation (before the joint angle)
     tree_r: np.ndarray          # (nb, 3) joint-frame origin in parent coordinates [m]
-    theta_offset: np.ndarray    # (nb,) joint offset (modified-DH theta offset) [rad or m]
-    S: np.ndarray               # (nb, 6) motion subspace of each joint, body axes (row 0 unused)
-    prismatic: np.ndarray       # (nb,) bool, joint i is prismatic (translation along its axis)
-    joint_damping: np.ndarray   # (nb,) viscous damping b [N m s/rad or N s/m]
-    joint_friction: np.ndarray  # (nb,) Coulomb friction F_c [N m or N]
-    friction_speed: np.ndarray  # (nb,) regularisation speed v_s of the Coulomb law [rad/s or m/s]
+    joint: np.ndarray           # (nb, 4) per joint: offset (modified-DH theta offset) [rad or m], viscous damping
+                                #   b [N m s/rad or N s/m], Coulomb friction F_c [N m or N], the inverse 1 / v_s
+                                #   of its regularisation speed [s/rad or s/m] (columns JOINT_OFFSET .. INV_SPEED)
+    joint_kind: np.ndarray      # (nb,) int64: JOINT_Z (revolute about z, modified DH), JOINT_REVOLUTE, JOINT_PRISMATIC
+    S: np.ndarray               # (nb, 6) motion subspace of each joint, body axes (row 0 unused): [axis; 0] or [0; axis]
     inertia: np.ndarray         # (nb, 6, 6) rigid spatial inertia about the body origin
     inertia_h: np.ndarray       # (nb, 6, 6) hydrodynamic inertia I + I_A (Eq. 13's I^H)
     added_mass: np.ndarray      # (nb, 6, 6) I_A about the body origin (Eq. 2)
@@ -37,11 +47,11 @@ class KernelModel(NamedTuple):
     cob: np.ndarray             # (nb, 3) centre of buoyancy b [m] (Eq. 8)
     vehicle_drag_linear: np.ndarray     # (3,) 0.5 rho A_j Cd_j [kg/m] (Eq. 3)
     vehicle_drag_angular: np.ndarray    # (3,) rho Cd a^5 / 32 [kg m^2] (Eq. 4, closed form)
-    link_drag: np.ndarray       # (nb,) 0.5 rho Cd (2 r) per unit length [kg/m^2] (Eq. 6)
-    link_length: np.ndarray     # (nb,) cylinder length L [m]
-    cyl_E: np.ndarray           # (nb, 3, 3) body-to-cylinder coordinate rotation (cylinder along its x)
-    cyl_o: np.ndarray           # (nb, 3) cylinder origin in body coordinates [m]
-    ee_body: np.ndarray         # (1,) int64, the body the end effector is fixed in
+    cylinder: np.ndarray        # (nb, 5, 3) each link's drag cylinder (Eq. 6): rows 0-2 the body-to-cylinder
+                                #   rotation (the cylinder along its x), row 3 its origin in the body [m], row 4
+                                #   [0.5 rho Cd (2 r) per unit length [kg/m^2], length L [m], 1.0 if the cylinder is
+                                #   not along the body x axis from the origin else 0.0]
+    ee_body: int                # the body the end effector is fixed in
     ee_E: np.ndarray            # (3, 3) body-to-end-effector coordinate rotation
     ee_r: np.ndarray            # (3,) end-effector origin in body coordinates [m]
     gravity: np.ndarray         # (3,) world gravitational acceleration a_g [m/s^2]
@@ -60,7 +70,7 @@ class Workspace(NamedTuple):
     pA: np.ndarray      # (nb, 6) articulated bias force
     U: np.ndarray       # (nb, 6) IA S
     d: np.ndarray       # (nb,) S^T IA S
-    u: np.ndarray       # (nb,) tau - S^T pA
+    u: np.ndarray       # (nb,) the joint's passive torque after the outward pass; then tau + tau_p - S^T pA
     g: np.ndarray       # (nb, 3) gravity in body axes
     vc: np.ndarray      # (nb, 3) current velocity in body axes
     af: np.ndarray      # (nb, 3) fluid acceleration in body axes
@@ -79,40 +89,36 @@ def kernel_model_from(model) -> KernelModel:
     tree_E = np.zeros((nb, 3, 3))
     tree_E[0] = np.eye(3)
     tree_r = np.zeros((nb, 3))
-    theta_offset = np.zeros(nb)
+    joint = np.zeros((nb, 4))
+    joint[0, INV_SPEED] = 1.0
     S = np.zeros((nb, 6))
-    prismatic = np.zeros(nb, dtype=np.bool_)
-    cyl_E = np.tile(np.eye(3), (nb, 1, 1))
-    cyl_o = np.zeros((nb, 3))
+    joint_kind = np.zeros(nb, dtype=np.int64)
+    cylinder = np.zeros((nb, 5, 3))
+    cylinder[:, 0:3] = np.eye(3)
     for i in range(1, nb):
         tree_E[i] = model.joint_rotation[i - 1].T
         tree_r[i] = model.joint_position[i - 1]
-        theta_offset[i] = model.theta_offset[i - 1]
-        prismatic[i] = model.joint_type[i - 1] == "prismatic"
-        (S[i, 3:6] if prismatic[i] else S[i, 0:3])[:] = model.joint_axis[i - 1]
-        cyl_E[i] = model.link_cylinder_rotation[i - 1].T
-        cyl_o[i] = model.link_cylinder_origin[i - 1]
-    joint_damping, joint_friction, friction_speed = np.zeros(nb), np.zeros(nb), np.ones(nb)
-    joint_damping[1:] = model.joint_damping
-    joint_friction[1:] = model.joint_friction
-    friction_speed[1:] = model.joint_friction_speed
+        joint[i] = (model.theta_offset[i - 1], model.joint_damping[i - 1], model.joint_friction[i - 1],
+                    1.0 / model.joint_friction_speed[i - 1])
+        prismatic = model.joint_type[i - 1] == "prismatic"
+        axis = model.joint_axis[i - 1]
+        (S[i, 3:6] if prismatic else S[i, 0:3])[:] = axis
+        joint_kind[i] = JOINT_PRISMATIC if prismatic else (
+            JOINT_Z if np.array_equal(axis, [0.0, 0.0, 1.0]) else JOINT_REVOLUTE)
+        E, o = model.link_cylinder_rotation[i - 1].T, model.link_cylinder_origin[i - 1]
+        cylinder[i, 0:3], cylinder[i, 3] = E, o
+        cylinder[i, 4] = (rho * model.link_drag_coefficient[i - 1] * model.link_radius[i - 1],   # 0.5 rho Cd (2 r)
+                          model.link_length[i - 1], 0.0 if np.array_equal(E, np.eye(3)) and not o.any() else 1.0)
     inertia = np.stack([spatial_inertia(model.mass[i], model.com[i], model.inertia_com[i]) for i in range(nb)])
     added_mass = np.array(model.added_mass, dtype=float)
-    link_drag = np.zeros(nb)
-    link_length = np.zeros(nb)
-    link_drag[1:] = rho * model.link_drag_coefficient * model.link_radius   # 0.5 rho Cd (2 r)
-    link_length[1:] = model.link_length
     a = model.vehicle_rotational_drag_side
     return KernelModel(
         parent=parent,
         tree_E=tree_E,
         tree_r=tree_r,
-        theta_offset=theta_offset,
+        joint=joint,
+        joint_kind=joint_kind,
         S=S,
-        prismatic=prismatic,
-        joint_damping=joint_damping,
-        joint_friction=joint_friction,
-        friction_speed=friction_speed,
         inertia=inertia,
         inertia_h=inertia + added_mass,
         added_mass=added_mass,
@@ -122,11 +128,8 @@ def kernel_model_from(model) -> KernelModel:
         cob=np.array(model.cob, dtype=float),
         vehicle_drag_linear=0.5 * rho * model.vehicle_drag_area * model.vehicle_drag_coefficient,
         vehicle_drag_angular=np.full(3, rho * model.vehicle_rotational_drag_coefficient * a**5 / 32.0),
-        link_drag=link_drag,
-        link_length=link_length,
-        cyl_E=cyl_E,
-        cyl_o=cyl_o,
-        ee_body=np.array([model.ee_body], dtype=np.int64),
+        cylinder=cylinder,
+        ee_body=int(model.ee_body),
         ee_E=np.array(model.ee_rotation, dtype=float).T.copy(),
         ee_r=np.array(model.ee_position, dtype=float),
         gravity=np.array(model.gravity, dtype=float),

@@ -76,9 +76,9 @@ def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None,
     zero3 = np.zeros(3)
 
     def forces(i, af):
-        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.link_drag[i],
-                          km.link_length[i], km.cyl_E[i], km.cyl_o[i], i == 0, km.mass[i], km.com[i],
-                          km.fluid_mass[i], km.cob[i], ws.v[i], ws.vc[i], af, ws.g[i], f, scratch)
+        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i], i == 0,
+                          km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], ws.v[i], ws.vc[i], af, ws.g[i], f,
+                          scratch)
 
     for i in range(nb):
         # velocity terms alone (no fluid acceleration), then the fluid-acceleration part as the difference
