@@ -37,7 +37,7 @@ class KernelModel(NamedTuple):
                                 #   b [N m s/rad or N s/m], Coulomb friction F_c [N m or N], the inverse 1 / v_s
                                 #   of its regularisation speed [s/rad or s/m] (columns JOINT_OFFSET .. INV_SPEED)
     joint_kind: np.ndarray      # (nb,) int64: JOINT_Z (revolute about z, modified DH), JOINT_REVOLUTE, JOINT_PRISMATIC
-    S: np.ndarray               # (nb, 6) motion subspace of each joint, body axes (row 0 unused): [axis; 0] or [0; axis]
+    S: np.ndarray               # (nb, 6) motion subspace of each joint, body axes (row 0 unused): [axis; 0], [0; axis]
     inertia: np.ndarray         # (nb, 6, 6) rigid spatial inertia about the body origin
     inertia_h: np.ndarray       # (nb, 6, 6) hydrodynamic inertia I + I_A (Eq. 13's I^H)
     added_mass: np.ndarray      # (nb, 6, 6) I_A about the body origin (Eq. 2)

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from uvms.errors import UvmsInputError
-from uvms.model.model import END_EFFECTOR, Frame, Model
+from uvms.model.model import DEFAULT_FRICTION_SPEED, END_EFFECTOR, Frame, Model
 from uvms.spatial import plucker, skew, spatial_inertia
 
 URDF_SUFFIXES = (".urdf", ".xacro")
@@ -73,13 +73,14 @@ def read_urdf_text(path: str | os.PathLike[str]) -> str:
 def _parse(text: str, source: str):
     """``yourdfpy``'s robot of a URDF text; XML syntax errors (which yourdfpy would try to recover from) and
     a document that is not a ``<robot>`` are refused first."""
-    from lxml import etree
+    from xml.etree import ElementTree
 
     try:
-        root = etree.fromstring(text.encode("utf-8"))
-    except etree.XMLSyntaxError as exc:
-        line = f"line {exc.lineno}, column {exc.offset}" if exc.lineno else None
-        raise UvmsInputError(f"invalid XML: {exc.msg}", source, line) from None
+        root = ElementTree.fromstring(text.encode("utf-8"))
+    except ElementTree.ParseError as exc:
+        line, column = exc.position
+        message = str(exc).split(":")[0]
+        raise UvmsInputError(f"invalid XML: {message}", source, f"line {line}, column {column + 1}") from None
     if root.tag != "robot":
         raise UvmsInputError(f"expected a <robot> element at the top level, found <{root.tag}>", source)
     import yourdfpy
@@ -351,42 +352,38 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.
         body.cylinder_link = link
 
 
-def _assemble(bodies, axes, frames, extras: VehicleExtras, robot_name: str, source: str) -> Model:
-    bodies_sorted = bodies
-    nb = len(bodies_sorted)
+def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str) -> Model:
+    """The :class:`Model` of the bodies (in tree order), their joints' axes and the frames."""
+    nb = len(bodies)
     n = nb - 1
     mass = np.zeros(nb)
     com = np.zeros((nb, 3))
     inertia_com = np.zeros((nb, 3, 3))
     cob = np.zeros((nb, 3))
-    for i, body in enumerate(bodies_sorted):
+    for i, body in enumerate(bodies):
         mass[i], com[i], inertia_com[i] = _mass_properties(body.inertia)
         if body.fluid_mass > 0.0:
             cob[i] = body.fluid_moment / body.fluid_mass
     carried = mass.copy()                      # mass of each body and everything it carries
     for i in range(nb - 1, 0, -1):
-        carried[bodies_sorted[i].parent] += carried[i]
+        carried[bodies[i].parent] += carried[i]
     for i in range(1, nb):
         if carried[i] <= 0.0:
-            body = bodies_sorted[i]
+            body = bodies[i]
             raise UvmsInputError(f"expected mass > 0 on link {body.link!r} (moved by joint {body.joint.name!r}) "
                                  "or on the links it carries, found none: a joint must move some mass", source,
                                  f"link {body.link!r}")
-    joints = [b.joint for b in bodies_sorted[1:]]
+    joints = [b.joint for b in bodies[1:]]
     joint_axis = np.array(axes).reshape(n, 3)
     limits = np.tile([-np.inf, np.inf, np.inf, np.inf], (n, 1))
     damping, friction = np.zeros(n), np.zeros(n)
     speed = np.full(n, np.nan)
-    from uvms.model.model import DEFAULT_FRICTION_SPEED
-
     for k, joint in enumerate(joints):
         lim = joint.limit
         if lim is not None:
-            if joint.type != "continuous":
+            if joint.type != "continuous":          # a continuous joint has no position limits
                 limits[k, 0] = -np.inf if lim.lower is None else float(lim.lower)
                 limits[k, 1] = np.inf if lim.upper is None else float(lim.upper)
-                if limits[k, 0] == 0.0 and limits[k, 1] == 0.0 and lim.lower is None and lim.upper is None:
-                    limits[k, :2] = (-np.inf, np.inf)
             if lim.effort is not None and float(lim.effort) > 0.0:
                 limits[k, 2] = float(lim.effort)
             if lim.velocity is not None and float(lim.velocity) > 0.0:
@@ -410,7 +407,7 @@ def _assemble(bodies, axes, frames, extras: VehicleExtras, robot_name: str, sour
     cyl_R = np.tile(np.eye(3), (n, 1, 1))
     cyl_o = np.zeros((n, 3))
     radius, length, cd = np.zeros(n), np.zeros(n), np.zeros(n)
-    for i, body in enumerate(bodies_sorted[1:]):
+    for i, body in enumerate(bodies[1:]):
         if body.cylinder is not None:
             cyl_R[i], cyl_o[i], radius[i], length[i], cd[i] = body.cylinder
     frame_list = [Frame(name, b, R, p) for name, b, R, p, _ in frames]
@@ -429,24 +426,24 @@ def _assemble(bodies, axes, frames, extras: VehicleExtras, robot_name: str, sour
     return Model(
         name=extras.name or robot_name or Path(source).stem,
         source=extras.source or source,
-        body_names=tuple(b.link for b in bodies_sorted),
+        body_names=tuple(b.link for b in bodies),
         mass=mass, com=com, inertia_com=inertia_com,
-        added_mass=np.array([b.added_mass for b in bodies_sorted]),
-        buoyancy_mass=np.array([b.fluid_mass for b in bodies_sorted]), cob=cob,
+        added_mass=np.array([b.added_mass for b in bodies]),
+        buoyancy_mass=np.array([b.fluid_mass for b in bodies]), cob=cob,
         vehicle_drag_area=np.array(extras.vehicle_drag_area),
         vehicle_drag_coefficient=np.array(extras.vehicle_drag_coefficient),
         vehicle_rotational_drag_side=extras.vehicle_rotational_drag_side,
         vehicle_rotational_drag_coefficient=extras.vehicle_rotational_drag_coefficient,
         vehicle_box=np.array(extras.vehicle_box),
         link_radius=radius, link_length=length, link_drag_coefficient=cd,
-        joint_rotation=np.array([b.R_joint for b in bodies_sorted[1:]]).reshape(n, 3, 3),
-        joint_position=np.array([b.p_joint for b in bodies_sorted[1:]]).reshape(n, 3),
+        joint_rotation=np.array([b.R_joint for b in bodies[1:]]).reshape(n, 3, 3),
+        joint_position=np.array([b.p_joint for b in bodies[1:]]).reshape(n, 3),
         theta_offset=np.zeros(n),
         ee_rotation=ee.rotation, ee_position=ee.position,
         density=extras.density, gravity=np.array(extras.gravity), current=np.array(extras.current),
         fluid_acceleration=np.array(extras.fluid_acceleration), thrusters=tuple(extras.thrusters),
         joint_names=tuple(j.name for j in joints),
-        joint_parent=np.array([b.parent for b in bodies_sorted[1:]], dtype=np.int64),
+        joint_parent=np.array([b.parent for b in bodies[1:]], dtype=np.int64),
         joint_type=tuple(j.type for j in joints),
         joint_axis=joint_axis, joint_damping=damping, joint_friction=friction, joint_friction_speed=speed,
         joint_limits=limits, link_cylinder_rotation=cyl_R, link_cylinder_origin=cyl_o, ee_body=ee.body,
