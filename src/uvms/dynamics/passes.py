@@ -159,7 +159,6 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
                             ws.Xup[i])
             mat6_vec(ws.Xup[i], ws.v[p], vi)
             w = qd[i - 1]
-            ws.u[i] = passive_joint_force(km.joint[i, 1], km.joint[i, 2], km.joint[i, 3], w)
             if kind == 0:                        # S = e_z: the DH fast path
                 vi[2] += w
                 ws.c[i, 0] = vi[1] * w
@@ -193,6 +192,8 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
         for r in range(6):
             for k in range(6):
                 IA[r, k] = IH[r, k]
+    for i in range(1, nb):                       # (a loop of its own: measurably faster than inside the one above)
+        ws.u[i] = passive_joint_force(km.joint[i, 1], km.joint[i, 2], km.joint[i, 3], qd[i - 1])
 
 
 @njit(cache=True)
