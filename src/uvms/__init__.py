@@ -5,6 +5,7 @@ Public API (stable names)::
     load_model(name_or_path) -> Model          State.from_euler(model, position=, euler=, nu=, q=, qd=)
     forward_dynamics(model, state, ...)        inverse_dynamics(model, state, nu_dot=, qdd=)
     mass_matrix(model, state)                  end_effector_position(model, state)
+    frame_pose(model, state, name)             frame_poses(model, state)
     simulate(model, initial_state, ...)        hydrodynamic_wrenches(model, state, ...)
 
 Names are imported on first use so that ``import uvms`` (and ``uvms --help``) stays fast.
@@ -27,6 +28,10 @@ _EXPORTS = {
     "bias_forces": "uvms.dynamics.api",
     "end_effector_position": "uvms.kinematics",
     "forward_kinematics": "uvms.kinematics",
+    "frame_pose": "uvms.kinematics",
+    "frame_poses": "uvms.kinematics",
+    "FramePose": "uvms.kinematics",
+    "Frame": "uvms.model.model",
     "Model": "uvms.model.model",
     "load_model": "uvms.model.load",
     "State": "uvms.state",

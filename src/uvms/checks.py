@@ -209,36 +209,53 @@ JOINT_INERTIA_RELATIVE = 1e-9
 the joint origin (rigid plus added: the trace of both): round-off of the parallel-axis shift, not a body."""
 
 
-def joint_axis_inertia(mass, com, inertia_com, added_mass) -> tuple[np.ndarray, np.ndarray]:
-    """Per link (bodies 1..n): the rotational inertia about its joint axis (the link frame's z axis, through the
-    joint origin), rigid plus added, ``I_zz + m (c_x^2 + c_y^2) + I_A[2, 2]`` [kg m^2] (parallel-axis theorem;
-    ``I_A`` is about the link-frame origin, ``[angular; linear]``, paper Eq. 2), and the scale it is compared
-    with: the trace of the link's rotational inertia about the joint origin, rigid plus added."""
+def joint_axis_inertia(mass, com, inertia_com, added_mass, joint_axis=None,
+                       joint_type=None) -> tuple[np.ndarray, np.ndarray]:
+    """Per link (bodies 1..n): its own (rigid plus added) inertia along its joint's motion subspace ``S``,
+    ``S^T (I + I_A) S``, and the scale it is compared with.
+
+    ``I`` is the link's rigid spatial inertia about its frame origin (the joint) and ``I_A`` its added mass there
+    (``[angular; linear]``, paper Eq. 2). A revolute joint about the unit axis ``a`` (default: the link frame's z
+    axis, the DH joints) gives ``a^T (I_c + m (|c|^2 1 - c c^T)) a + a^T I_A,ang a`` [kg m^2] (parallel-axis
+    theorem), compared with the trace of the rotational inertia about the joint; a prismatic joint along ``a``
+    gives ``m + a^T I_A,lin a`` [kg], compared with ``m`` plus the trace of the linear added mass."""
     m = np.asarray(mass, dtype=float)[1:]
     c = np.asarray(com, dtype=float).reshape(-1, 3)[1:]
     I = np.asarray(inertia_com, dtype=float).reshape(-1, 3, 3)[1:]
-    A = np.asarray(added_mass, dtype=float).reshape(-1, 6, 6)[1:, :3, :3]
-    axis = I[:, 2, 2] + m * (c[:, 0] ** 2 + c[:, 1] ** 2) + A[:, 2, 2]
-    scale = np.trace(I, axis1=1, axis2=2) + 2.0 * m * np.sum(c * c, axis=1) + np.trace(A, axis1=1, axis2=2)
+    A = np.asarray(added_mass, dtype=float).reshape(-1, 6, 6)[1:]
+    n = m.shape[0]
+    a = np.tile([0.0, 0.0, 1.0], (n, 1)) if joint_axis is None else np.asarray(joint_axis, dtype=float).reshape(n, 3)
+    prismatic = np.zeros(n, bool) if joint_type is None else np.array([t == "prismatic" for t in joint_type], bool)
+    cc = np.sum(c * c, axis=1)
+    I_joint = I + m[:, None, None] * (cc[:, None, None] * np.eye(3) - c[:, :, None] * c[:, None, :])
+    rotational = np.einsum("ni,nij,nj->n", a, I_joint + A[:, :3, :3], a)
+    translational = m + np.einsum("ni,nij,nj->n", a, A[:, 3:, 3:], a)
+    axis = np.where(prismatic, translational, rotational)
+    scale = np.where(prismatic, m + np.trace(A[:, 3:, 3:], axis1=1, axis2=2),
+                     np.trace(I_joint + A[:, :3, :3], axis1=1, axis2=2))
     return axis, scale
 
 
-def check_joint_axis_inertia(mass, com, inertia_com, added_mass, *, source: str | None = None,
+def check_joint_axis_inertia(mass, com, inertia_com, added_mass, *, joint_axis=None, joint_type=None,
+                             source: str | None = None,
                              where: Callable[[int], str] = lambda j: f"links[{j}]") -> None:
-    """Refuse a link that its joint cannot accelerate: zero (rigid + added) inertia about the joint axis.
+    """Refuse a link that its joint cannot accelerate: zero (rigid + added) inertia along the joint's motion.
 
     The articulated-body algorithm divides by ``D_i = S_i^T I^A_i S_i`` (Featherstone 2008, Sec. 7.3), the
-    articulated inertia of link ``i`` and everything outboard about joint ``i``'s axis; it is at least the
-    link's own inertia about that axis (outboard bodies add positive semi-definite terms), so a positive own
+    articulated inertia of link ``i`` and everything outboard along joint ``i``'s motion; it is at least the
+    link's own inertia along it (outboard bodies add positive semi-definite terms), so a positive own
     inertia (:func:`joint_axis_inertia`) is a sufficient, configuration-independent condition. ``where(j)``
     names the field of link ``j`` (0-based) in the message, which is one line: ``"<source>: <where>: ..."``.
     """
-    axis, scale = joint_axis_inertia(mass, com, inertia_com, added_mass)
+    axis, scale = joint_axis_inertia(mass, com, inertia_com, added_mass, joint_axis, joint_type)
     for j in np.flatnonzero(~(axis > JOINT_INERTIA_RELATIVE * scale)):
+        if joint_type is not None and joint_type[j] == "prismatic":
+            raise UvmsInputError(f"expected a positive mass along the prismatic joint, found {axis[j]:.6g} kg",
+                                 source, where(int(j)))
         raise UvmsInputError(
-            "expected a positive rotational inertia about the joint axis (z, through the joint origin: "
-            f"I_zz + m (x_c^2 + y_c^2) + added-mass I_A[2,2]), found {axis[j]:.6g} kg m^2 (the dynamics divide "
-            "by each joint's inertia about its axis)", source, where(int(j)))
+            "expected a positive rotational inertia about the joint axis (through the joint origin, rigid "
+            f"I + m d^2 plus added mass), found {axis[j]:.6g} kg m^2 (the dynamics divide by each joint's "
+            "inertia about its axis)", source, where(int(j)))
 
 
 ADAPTIVE_METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")

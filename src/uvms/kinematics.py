@@ -1,12 +1,14 @@
-"""Forward kinematics: every link frame and the end effector in the world (modified DH, Craig 2005).
+"""Forward kinematics: every body frame, every named frame and the end effector in the world.
 
-``R_i = R_p E_i^T`` and ``p_i = p_p + R_p r_i`` down the chain, with ``E_i, r_i`` the joint transforms of
-:func:`uvms.dynamics.passes.joint_transform`; the end effector is the fixed ``eeX_n`` after the last link.
+``R_i = R_p E_i^T`` and ``p_i = p_p + R_p r_i`` down the tree, with ``E_i, r_i`` the joint transforms of
+:func:`uvms.dynamics.passes.joint_transform`; the end effector is fixed in body ``ee_body`` (the last link by
+default), and a named frame (:class:`uvms.model.model.Frame`) is fixed in its body.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -30,25 +32,26 @@ def quaternion_to_rotation(qw, qx, qy, qz, R):
 
 
 @njit(cache=True)
-def link_poses(km, R0, p0, q, R_out, p_out, E, X):
+def link_poses(km, R0, p0, q, R_out, p_out, E, r, X):
     """World pose of every body (``R_out[i]`` body-to-world, ``p_out[i]`` origin) and, at index ``nb``,
-    of the end effector. ``R_out``/``p_out`` have ``nb + 1`` rows; ``E`` (3x3) and ``X`` (6x6) are scratch."""
+    of the end effector. ``R_out``/``p_out`` have ``nb + 1`` rows; ``E`` (3x3), ``r`` (3) and ``X`` (6x6) are
+    scratch."""
     nb = km.parent.shape[0]
-    for r in range(3):
-        p_out[0, r] = p0[r]
+    for a in range(3):
+        p_out[0, a] = p0[a]
         for k in range(3):
-            R_out[0, r, k] = R0[r, k]
+            R_out[0, a, k] = R0[a, k]
     for i in range(1, nb + 1):
         if i < nb:
             p = km.parent[i]
-            joint_transform(km.tree_E[i], km.tree_r[i], q[i - 1] + km.theta_offset[i], E, X)
-            r = km.tree_r[i]
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, 0],
+                            E, r, X)
         else:
-            p = nb - 1
+            p = km.ee_body
             for a in range(3):
+                r[a] = km.ee_r[a]
                 for b in range(3):
                     E[a, b] = km.ee_E[a, b]
-            r = km.ee_r
         for a in range(3):
             s = p_out[p, a]
             for k in range(3):
@@ -84,13 +87,46 @@ def forward_kinematics(model, state) -> Poses:
     R = np.zeros((nb + 1, 3, 3))
     p = np.zeros((nb + 1, 3))
     link_poses(model.kernel, state.rotation, np.array(state.position, dtype=float), np.array(state.q, dtype=float),
-               R, p, np.zeros((3, 3)), np.zeros((6, 6)))
+               R, p, np.zeros((3, 3)), np.zeros(3), np.zeros((6, 6)))
     return Poses(rotation=R, position=p)
 
 
 def end_effector_position(model, state) -> np.ndarray:
     """End-effector position in the world frame (3,) [m]."""
     return forward_kinematics(model, state).end_effector_position
+
+
+class FramePose(NamedTuple):
+    """World pose of a named frame: ``position`` (3,) [m] and ``rotation`` (3, 3), frame to world."""
+
+    position: np.ndarray
+    rotation: np.ndarray
+
+
+def frame_pose(model, state, name: str) -> FramePose:
+    """World position and rotation of the named frame (a link, a link merged by a fixed joint, or
+    ``"end_effector"``; ``model.frame_names`` lists them): ``R = R_b R_f``, ``p = p_b + R_b p_f`` for a frame
+    with pose ``(R_f, p_f)`` in body ``b``.
+
+    Raises:
+        UvmsInputError: no frame of that name (the message lists the names).
+    """
+    from uvms.errors import UvmsInputError
+
+    try:
+        frame = model.frame(name)
+    except KeyError as exc:
+        raise UvmsInputError(str(exc.args[0])) from None
+    poses = forward_kinematics(model, state)
+    R_b, p_b = poses.rotation[frame.body], poses.position[frame.body]
+    return FramePose(position=p_b + R_b @ frame.position, rotation=R_b @ frame.rotation)
+
+
+def frame_poses(model, state) -> dict[str, FramePose]:
+    """World pose of every named frame, by name (one forward-kinematics pass)."""
+    poses = forward_kinematics(model, state)
+    return {f.name: FramePose(poses.position[f.body] + poses.rotation[f.body] @ f.position,
+                              poses.rotation[f.body] @ f.rotation) for f in model.frames}
 
 
 @njit(cache=True)
@@ -102,11 +138,12 @@ def end_effector_path(km, states, out):
     R = np.empty((nb + 1, 3, 3))
     p = np.empty((nb + 1, 3))
     E = np.empty((3, 3))
+    r = np.empty(3)
     X = np.empty((6, 6))
     R0 = np.empty((3, 3))
     for k in range(states.shape[0]):
         x = states[k]
         quaternion_to_rotation(x[3], x[4], x[5], x[6], R0)
-        link_poses(km, R0, x[0:3], x[13:13 + n], R, p, E, X)
+        link_poses(km, R0, x[0:3], x[13:13 + n], R, p, E, r, X)
         for a in range(3):
             out[k, a] = p[nb, a]

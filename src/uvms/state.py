@@ -8,11 +8,13 @@ Euler angles and the rotation matrix are derived on request.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from uvms import checks
+from uvms.errors import UvmsInputError, show
 from uvms.rotations import euler_from_quaternion, quaternion_from_euler, rotation_from_quaternion
 
 
@@ -25,6 +27,22 @@ def _vector(value, size: int | None, name: str, what: str = "") -> np.ndarray:
 
 
 _FIELDS = ("position", "quaternion", "nu", "q", "qd", "actuator")
+
+
+def _by_joint_name(model, value, name: str):
+    """A ``{joint name: value}`` mapping as a list in ``model.joint_names`` order (other values unchanged)."""
+    if not isinstance(value, Mapping):
+        return value
+    out = np.zeros(model.n_joints)
+    for joint, x in value.items():
+        if joint not in model.joint_names:
+            raise UvmsInputError(f"model {model.name!r} has no joint {show(joint)}; joints: "
+                                 f"{', '.join(model.joint_names) or '(none)'}", path=name)
+        try:
+            out[model.joint_names.index(joint)] = checks.number(x, name)
+        except UvmsInputError as exc:
+            raise UvmsInputError(f"joint {joint!r}: {exc.message}", path=name) from None
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,8 +75,14 @@ class State:
 
     @classmethod
     def from_euler(cls, model, *, position=None, euler=None, nu=None, q=None, qd=None, actuator=None) -> "State":
-        """A state from ZYX Euler angles ``(phi, theta, psi)`` [rad]; omitted values are zero."""
+        """A state from ZYX Euler angles ``(phi, theta, psi)`` [rad]; omitted values are zero.
+
+        ``q`` and ``qd`` are lists in the order of ``model.joint_names`` (the tree order), or mappings
+        ``{joint name: value}`` in which omitted joints are zero.
+        """
         n = checks.model(model).n_joints
+        q = _by_joint_name(model, q, "q")
+        qd = _by_joint_name(model, qd, "qd")
         return cls(
             position=_vector(position, 3, "position", " [m]"),
             quaternion=quaternion_from_euler(_vector(euler, 3, "euler", " (phi, theta, psi) [rad]")),

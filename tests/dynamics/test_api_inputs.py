@@ -48,6 +48,10 @@ BAD_3 = [([1.0, 2.0], "shape (2,)"), ([1.0, 2.0, 3.0, 4.0], "shape (4,)"), ([[1.
          (["1", "2", "3"], "values of type <U1"), ([True, False, True], "values of type bool"), ({"a": 1}, "a dict"),
          ([[1.0], [2.0, 3.0]], "got a list"), (3.0, "shape ()")]
 """Bad values for a 3-vector (the paper's joint count, a current) and a fragment of the message each gives."""
+BAD_JOINTS = [bad for bad in BAD_3 if not isinstance(bad[0], dict)] + [
+    ({"a": 1}, "has no joint 'a'; joints: joint1, joint2, joint3"), ({"joint2": "x"}, "a string 'x'"),
+    ({"joint1": np.nan}, "nan")]
+"""Joint values may also be ``{joint name: value}`` mappings (``State.from_euler``): bad names and values."""
 BAD_6 = [([1.0] * 5, "shape (5,)"), ([1.0] * 7, "shape (7,)"), ([0.0] * 5 + [np.nan], "nan at index 5"),
          ([0.0, -np.inf, 0, 0, 0, 0], "-inf at index 1"), ("wrench", "a string"), (_Other(), "a _Other")]
 BAD_FLAG = [("yes", "a string 'yes'"), (1, "1"), (None, "None"), (np.array([True]), "an array")]
@@ -82,8 +86,8 @@ def _calls(paper, state):
         ("State.from_euler", fe, "euler", BAD_3),
         ("State.from_euler", fe, "position", BAD_3),
         ("State.from_euler", fe, "nu", BAD_6),
-        ("State.from_euler", fe, "q", BAD_3),
-        ("State.from_euler", fe, "qd", BAD_3),
+        ("State.from_euler", fe, "q", BAD_JOINTS),
+        ("State.from_euler", fe, "qd", BAD_JOINTS),
         ("State.from_euler", fe, "actuator", [("abc", "a string"), ([np.nan], "nan"), ([[1.0]], "shape (1, 1)")]),
         ("State", st, "position", BAD_3),
         ("State", st, "quaternion", [([1.0, 0, 0], "shape (3,)"), ([0.0, 0, 0, 0], "norm 0"),

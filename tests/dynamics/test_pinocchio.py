@@ -179,3 +179,60 @@ def test_builder_shapes_and_gravity():
     assert (fixed.nq, fixed.nv) == (3, 3)
     np.testing.assert_array_equal(free.gravity.linear, [0.0, 0.0, 9.81])
     assert np.isclose(sum(inertia.mass for inertia in free.inertias), 35.0)
+
+
+def random_tree(rng: np.random.Generator, n: int) -> uvms.Model:
+    """A random chain made a random tree: random parents, unit axes in any direction, revolute, continuous and
+    prismatic joints, the end effector on a random body (rigid: no hydrodynamics). Bodies stay in depth-first
+    order (each parent is on the path from the root to the previous body), as Pinocchio's CRBA requires."""
+    model = random_model(rng, n, hydro=False)
+    parents = []
+    path = [0]                                   # the root-to-previous-body path
+    for i in range(1, n + 1):
+        k = int(rng.integers(0, len(path)))
+        parents.append(path[k])
+        path = path[:k + 1] + [i]
+    axes = rng.normal(size=(n, 3))
+    axes[rng.random(n) < 0.3] = [0.0, 0.0, 1.0]
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    ee_body = int(rng.integers(0, n + 1))
+    return model.replace(joint_parent=np.array(parents),
+                         joint_axis=axes, joint_type=tuple(rng.choice(["revolute", "continuous", "prismatic"], n)),
+                         ee_body=ee_body, frames=None)
+
+
+@pytest.mark.parametrize("n", [1, 4, 9])
+@pytest.mark.parametrize("fixed_base", [False, True], ids=["floating", "fixed"])
+def test_random_tree_forward_dynamics_matches_pinocchio(n, fixed_base):
+    rng = np.random.default_rng(2000 + n)
+    model = random_tree(rng, n)
+    assert "prismatic" in model.joint_type or n == 1
+    assert_aba_matches(model, rng, fixed_base=fixed_base, n_states=10, ee_wrench=True)
+
+
+@pytest.mark.parametrize("n", [4, 9])
+def test_random_tree_mass_matrix_inverse_dynamics_and_frames_match_pinocchio(n):
+    rng = np.random.default_rng(3000 + n)
+    model = random_tree(rng, n)
+    assert len(set(model.joint_parent)) < n and "prismatic" in model.joint_type     # branches, slides
+    pm = pinocchio_model_from(model)
+    pd = pm.createData()
+    for _ in range(10):
+        state = random_state(rng, model)
+        M = pin.crba(pm, pd, pinocchio_configuration(state))
+        expected = matrix_from_pinocchio(np.triu(M) + np.triu(M, 1).T)
+        assert np.linalg.norm(uvms.mass_matrix(model, state) - expected) <= TOLERANCE * np.linalg.norm(expected)
+        nu_dot, qdd = rng.normal(size=6), rng.normal(size=n)
+        f0, tau = uvms.inverse_dynamics(model, state, nu_dot=nu_dot, qdd=qdd)
+        expected = generalized_from_pinocchio(pin.rnea(pm, pd, pinocchio_configuration(state),
+                                                       pinocchio_velocity(state),
+                                                       np.concatenate([nu_dot[3:6], nu_dot[0:3], qdd])))
+        assert close(np.concatenate([f0, tau]), expected)
+        pin.framesForwardKinematics(pm, pd, pinocchio_configuration(state))
+        oMf = pd.oMf[pm.getFrameId(END_EFFECTOR_FRAME)]
+        np.testing.assert_allclose(uvms.end_effector_position(model, state), oMf.translation, rtol=0, atol=1e-12)
+        poses = uvms.forward_kinematics(model, state)
+        for i in range(1, n + 1):
+            oMi = pd.oMi[pm.getJointId(model.joint_names[i - 1])]
+            np.testing.assert_allclose(poses.position[i], oMi.translation, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(poses.rotation[i], oMi.rotation, rtol=0, atol=1e-12)

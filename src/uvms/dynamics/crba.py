@@ -3,8 +3,8 @@
 Generalized velocity ``[nu; qd]`` (vehicle first). With ``I^H = I + I_A`` (added mass included)::
 
     IC_i = I^H_i;   tip to base: IC_p += Xup_i^T IC_i Xup_i
-    H[0:6, 0:6] = IC_0;   F = IC_i S,  H[i, i] = S^T F,  then F = Xup_j^T F up the chain:
-    H[i, j] = S^T F for each ancestor joint j,  H[0:6, i] = F at the vehicle.
+    H[0:6, 0:6] = IC_0;   F = IC_i S_i,  H[i, i] = S_i^T F,  then F = Xup_j^T F up the tree:
+    H[i, j] = S_j^T F for each ancestor joint j,  H[0:6, i] = F at the vehicle.
 """
 
 from __future__ import annotations
@@ -16,13 +16,25 @@ from uvms.dynamics.blocks import congruence_add_plucker, mat6T_vec_add
 from uvms.dynamics.passes import joint_transform
 
 
+@njit(cache=True, inline="always")
+def sdot(kind, S, x):
+    """``S^T x`` for 6-vectors (``x[2]`` for a joint about z, ``kind == JOINT_Z``)."""
+    if kind == 0:
+        return x[2]
+    s = 0.0
+    for k in range(6):
+        s += S[k] * x[k]
+    return s
+
+
 @njit(cache=True)
 def crba(km, ws, q, M):
     """Write the ``(6+n) x (6+n)`` joint-space inertia matrix ``M`` (added mass included)."""
     nb = km.parent.shape[0]
     for i in range(nb):
         if i > 0:
-            joint_transform(km.tree_E[i], km.tree_r[i], q[i - 1] + km.theta_offset[i], ws.E[i], ws.Xup[i])
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, 0],
+                            ws.E[i], ws.r[i], ws.Xup[i])
         for r in range(6):
             for k in range(6):
                 ws.IA[i, r, k] = km.inertia_h[i, r, k]
@@ -30,7 +42,7 @@ def crba(km, ws, q, M):
     # -- composite inertias, tip to base
     tmp = ws.m6[2]
     for i in range(nb - 1, 0, -1):
-        congruence_add_plucker(ws.E[i], km.tree_r[i], ws.IA[i], ws.IA[km.parent[i]], tmp)
+        congruence_add_plucker(ws.E[i], ws.r[i], ws.IA[i], ws.IA[km.parent[i]], tmp)
 
     # -- rows and columns of M
     for r in range(6):
@@ -39,9 +51,16 @@ def crba(km, ws, q, M):
     F = ws.w6[0]
     G = ws.w6[1]
     for i in range(1, nb):
-        for k in range(6):
-            F[k] = ws.IA[i, k, 2]
-        M[5 + i, 5 + i] = F[2]
+        if km.joint_kind[i] == 0:
+            for k in range(6):
+                F[k] = ws.IA[i, k, 2]
+        else:
+            for k in range(6):
+                s = 0.0
+                for m in range(6):
+                    s += ws.IA[i, k, m] * km.S[i, m]
+                F[k] = s
+        M[5 + i, 5 + i] = sdot(km.joint_kind[i], km.S[i], F)
         j = i
         while km.parent[j] > 0:
             for k in range(6):
@@ -50,8 +69,9 @@ def crba(km, ws, q, M):
             for k in range(6):
                 F[k] = G[k]
             j = km.parent[j]
-            M[5 + i, 5 + j] = F[2]
-            M[5 + j, 5 + i] = F[2]
+            h = sdot(km.joint_kind[j], km.S[j], F)
+            M[5 + i, 5 + j] = h
+            M[5 + j, 5 + i] = h
         for k in range(6):
             G[k] = 0.0
         mat6T_vec_add(ws.Xup[j], F, G)

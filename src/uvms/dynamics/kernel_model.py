@@ -1,8 +1,10 @@
 """Flat arrays of a :class:`~uvms.model.Model` for the compiled kernels, and their preallocated workspace.
 
-Built once per model (:func:`kernel_model_from`); the kernels never allocate (workspaces are made once per run).
-Body 0 is the vehicle, bodies 1..n the links; index 0 of per-joint arrays is unused padding so that
-body ``i`` and joint ``i`` share an index, as in Featherstone's ``model.parent(i)``.
+Built once per model (:func:`kernel_model_from`); the kernels never allocate (one workspace per run).
+Body 0 is the vehicle, bodies 1..n the links of a kinematic tree (``parent[i] < i``); index 0 of per-joint
+arrays is unused padding so that body ``i`` and its joint share an index, as in Featherstone's
+``model.parent(i)``. Joint ``i``'s motion subspace is the unit 6-vector ``S_i`` (``[axis; 0]`` revolute,
+``[0; axis]`` prismatic, in the body frame, which is the joint frame).
 """
 
 from __future__ import annotations
@@ -13,6 +15,17 @@ import numpy as np
 
 from uvms.spatial import spatial_inertia
 
+JOINT_Z = 0
+"""Joint kind: revolute about the joint frame's z axis (every modified-DH joint); the kernels' fast path."""
+JOINT_REVOLUTE = 1
+"""Joint kind: revolute (or continuous) about any unit axis."""
+JOINT_PRISMATIC = 2
+"""Joint kind: prismatic along any unit axis."""
+
+JOINT_OFFSET, DAMPING, FRICTION, INV_SPEED = 0, 1, 2, 3
+"""Columns of :attr:`KernelModel.joint`. (The kernel model packs small per-body parameters into few arrays:
+every array of the named tuple costs time on each kernel call.)"""
+
 
 class KernelModel(NamedTuple):
     """Model arrays read by the kernels. Shapes use ``nb = n + 1`` bodies; units SI."""
@@ -20,7 +33,11 @@ class KernelModel(NamedTuple):
     parent: np.ndarray          # (nb,) int64, parent body index, -1 for the vehicle
     tree_E: np.ndarray          # (nb, 3, 3) parent-to-joint-frame coordinate rotation (before the joint angle)
     tree_r: np.ndarray          # (nb, 3) joint-frame origin in parent coordinates [m]
-    theta_offset: np.ndarray    # (nb,) modified-DH theta offset [rad]
+    joint: np.ndarray           # (nb, 4) per joint: offset (modified-DH theta offset) [rad or m], viscous damping
+                                #   b [N m s/rad or N s/m], Coulomb friction F_c [N m or N], the inverse 1 / v_s
+                                #   of its regularisation speed [s/rad or s/m] (columns JOINT_OFFSET .. INV_SPEED)
+    joint_kind: np.ndarray      # (nb,) int64: JOINT_Z (revolute about z, modified DH), JOINT_REVOLUTE, JOINT_PRISMATIC
+    S: np.ndarray               # (nb, 6) motion subspace of each joint, body axes (row 0 unused): [axis; 0], [0; axis]
     inertia: np.ndarray         # (nb, 6, 6) rigid spatial inertia about the body origin
     inertia_h: np.ndarray       # (nb, 6, 6) hydrodynamic inertia I + I_A (Eq. 13's I^H)
     added_mass: np.ndarray      # (nb, 6, 6) I_A about the body origin (Eq. 2)
@@ -30,10 +47,13 @@ class KernelModel(NamedTuple):
     cob: np.ndarray             # (nb, 3) centre of buoyancy b [m] (Eq. 8)
     vehicle_drag_linear: np.ndarray     # (3,) 0.5 rho A_j Cd_j [kg/m] (Eq. 3)
     vehicle_drag_angular: np.ndarray    # (3,) rho Cd a^5 / 32 [kg m^2] (Eq. 4, closed form)
-    link_drag: np.ndarray       # (nb,) 0.5 rho Cd (2 r) per unit length [kg/m^2] (Eq. 6)
-    link_length: np.ndarray     # (nb,) cylinder length L [m]
-    ee_E: np.ndarray            # (3, 3) last-link-to-end-effector coordinate rotation
-    ee_r: np.ndarray            # (3,) end-effector origin in last-link coordinates [m]
+    cylinder: np.ndarray        # (nb, 5, 3) each link's drag cylinder (Eq. 6): rows 0-2 the body-to-cylinder
+                                #   rotation (the cylinder along its x), row 3 its origin in the body [m], row 4
+                                #   [0.5 rho Cd (2 r) per unit length [kg/m^2], length L [m], 1.0 if the cylinder is
+                                #   not along the body x axis from the origin else 0.0]
+    ee_body: int                # the body the end effector is fixed in
+    ee_E: np.ndarray            # (3, 3) body-to-end-effector coordinate rotation
+    ee_r: np.ndarray            # (3,) end-effector origin in body coordinates [m]
     gravity: np.ndarray         # (3,) world gravitational acceleration a_g [m/s^2]
 
 
@@ -42,6 +62,7 @@ class Workspace(NamedTuple):
 
     Xup: np.ndarray     # (nb, 6, 6) motion transform parent -> body i
     E: np.ndarray       # (nb, 3, 3) parent-to-body coordinate rotation
+    r: np.ndarray       # (nb, 3) body origin in parent coordinates [m]
     v: np.ndarray       # (nb, 6) body spatial velocity
     c: np.ndarray       # (nb, 6) velocity-product acceleration v_i x S qd_i
     a: np.ndarray       # (nb, 6) body spatial acceleration
@@ -49,12 +70,12 @@ class Workspace(NamedTuple):
     pA: np.ndarray      # (nb, 6) articulated bias force
     U: np.ndarray       # (nb, 6) IA S
     d: np.ndarray       # (nb,) S^T IA S
-    u: np.ndarray       # (nb,) tau - S^T pA
+    u: np.ndarray       # (nb,) the joint's passive torque after the outward pass; then tau + tau_p - S^T pA
     g: np.ndarray       # (nb, 3) gravity in body axes
     vc: np.ndarray      # (nb, 3) current velocity in body axes
     af: np.ndarray      # (nb, 3) fluid acceleration in body axes
     m6: np.ndarray      # (3, 6, 6) scratch matrices
-    w6: np.ndarray      # (4, 6) scratch vectors
+    w6: np.ndarray      # (5, 6) scratch vectors
     f4: np.ndarray      # (4, 6) one body's named forces: added mass, drag, buoyancy, gravity
 
 
@@ -63,27 +84,41 @@ def kernel_model_from(model) -> KernelModel:
     nb = model.n_bodies
     n = nb - 1
     rho = model.density
-    parent = np.arange(-1, n, dtype=np.int64)
+    parent = np.full(nb, -1, dtype=np.int64)
+    parent[1:] = model.joint_parent
     tree_E = np.zeros((nb, 3, 3))
     tree_E[0] = np.eye(3)
     tree_r = np.zeros((nb, 3))
-    theta_offset = np.zeros(nb)
+    joint = np.zeros((nb, 4))
+    joint[0, INV_SPEED] = 1.0
+    S = np.zeros((nb, 6))
+    joint_kind = np.zeros(nb, dtype=np.int64)
+    cylinder = np.zeros((nb, 5, 3))
+    cylinder[:, 0:3] = np.eye(3)
     for i in range(1, nb):
         tree_E[i] = model.joint_rotation[i - 1].T
         tree_r[i] = model.joint_position[i - 1]
-        theta_offset[i] = model.theta_offset[i - 1]
+        joint[i] = (model.theta_offset[i - 1], model.joint_damping[i - 1], model.joint_friction[i - 1],
+                    1.0 / model.joint_friction_speed[i - 1])
+        prismatic = model.joint_type[i - 1] == "prismatic"
+        axis = model.joint_axis[i - 1]
+        (S[i, 3:6] if prismatic else S[i, 0:3])[:] = axis
+        joint_kind[i] = JOINT_PRISMATIC if prismatic else (
+            JOINT_Z if np.array_equal(axis, [0.0, 0.0, 1.0]) else JOINT_REVOLUTE)
+        E, o = model.link_cylinder_rotation[i - 1].T, model.link_cylinder_origin[i - 1]
+        cylinder[i, 0:3], cylinder[i, 3] = E, o
+        cylinder[i, 4] = (rho * model.link_drag_coefficient[i - 1] * model.link_radius[i - 1],   # 0.5 rho Cd (2 r)
+                          model.link_length[i - 1], 0.0 if np.array_equal(E, np.eye(3)) and not o.any() else 1.0)
     inertia = np.stack([spatial_inertia(model.mass[i], model.com[i], model.inertia_com[i]) for i in range(nb)])
     added_mass = np.array(model.added_mass, dtype=float)
-    link_drag = np.zeros(nb)
-    link_length = np.zeros(nb)
-    link_drag[1:] = rho * model.link_drag_coefficient * model.link_radius   # 0.5 rho Cd (2 r)
-    link_length[1:] = model.link_length
     a = model.vehicle_rotational_drag_side
     return KernelModel(
         parent=parent,
         tree_E=tree_E,
         tree_r=tree_r,
-        theta_offset=theta_offset,
+        joint=joint,
+        joint_kind=joint_kind,
+        S=S,
         inertia=inertia,
         inertia_h=inertia + added_mass,
         added_mass=added_mass,
@@ -93,8 +128,8 @@ def kernel_model_from(model) -> KernelModel:
         cob=np.array(model.cob, dtype=float),
         vehicle_drag_linear=0.5 * rho * model.vehicle_drag_area * model.vehicle_drag_coefficient,
         vehicle_drag_angular=np.full(3, rho * model.vehicle_rotational_drag_coefficient * a**5 / 32.0),
-        link_drag=link_drag,
-        link_length=link_length,
+        cylinder=cylinder,
+        ee_body=int(model.ee_body),
         ee_E=np.array(model.ee_rotation, dtype=float).T.copy(),
         ee_r=np.array(model.ee_position, dtype=float),
         gravity=np.array(model.gravity, dtype=float),
@@ -105,8 +140,8 @@ def make_workspace(n_bodies: int) -> Workspace:
     """Allocate the scratch arrays for a model with ``n_bodies`` bodies."""
     nb = n_bodies
     return Workspace(
-        Xup=np.zeros((nb, 6, 6)), E=np.zeros((nb, 3, 3)), v=np.zeros((nb, 6)), c=np.zeros((nb, 6)),
+        Xup=np.zeros((nb, 6, 6)), E=np.zeros((nb, 3, 3)), r=np.zeros((nb, 3)), v=np.zeros((nb, 6)), c=np.zeros((nb, 6)),
         a=np.zeros((nb, 6)), IA=np.zeros((nb, 6, 6)), pA=np.zeros((nb, 6)), U=np.zeros((nb, 6)),
         d=np.zeros(nb), u=np.zeros(nb), g=np.zeros((nb, 3)), vc=np.zeros((nb, 3)), af=np.zeros((nb, 3)),
-        m6=np.zeros((3, 6, 6)), w6=np.zeros((4, 6)), f4=np.zeros((4, 6)),
+        m6=np.zeros((3, 6, 6)), w6=np.zeros((5, 6)), f4=np.zeros((4, 6)),
     )

@@ -2,8 +2,11 @@
 
 Given ``nu_dot`` and ``qdd``, the vehicle wrench ``f_0`` and joint torques ``tau`` that produce them::
 
-    outward:  a_i = Xup_i a_p + S qdd_i + c_i        f_i = I^H_i a_i + p_i
-    inward:   tau_i = S^T f_i                        f_p += Xup_i^T f_i
+    outward:  a_i = Xup_i a_p + S_i qdd_i + c_i      f_i = I^H_i a_i + p_i
+    inward:   tau_i = S_i^T f_i - tau_p,i            f_p += Xup_i^T f_i
+
+``tau_p`` is the joint's damping and friction (:func:`uvms.dynamics.passes.passive_joint_force`, left in
+``u`` by the outward pass): the actuator's torque overcomes it.
 
 ``p_i`` is the same bias force (rigid velocity product and every hydrodynamic effect) as in the ABA, and
 ``I^H = I + I_A``. The vehicle's net ``f_0`` is the body wrench the thrusters must apply.
@@ -25,7 +28,7 @@ def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_ou
     zero = ws.w6[3]
     for k in range(6):
         zero[k] = 0.0
-    apply_external(km.ee_E, km.ee_r, ws.pA, zero, f_ee, ws.m6[0])
+    apply_external(km.ee_body, km.ee_E, km.ee_r, ws.pA, zero, f_ee, ws.m6[0])
     h = ws.w6[0]
 
     # -- outward: accelerations and body forces f_i = I^H a_i + p_i
@@ -36,14 +39,24 @@ def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_ou
             mat6_vec(ws.Xup[i], ws.a[km.parent[i]], ws.a[i])
             for k in range(6):
                 ws.a[i, k] += ws.c[i, k]
-            ws.a[i, 2] += qdd[i - 1]
+            if km.joint_kind[i] == 0:           # S = e_z (modified DH)
+                ws.a[i, 2] += qdd[i - 1]
+            else:
+                for k in range(6):
+                    ws.a[i, k] += km.S[i, k] * qdd[i - 1]
         mat6_vec(km.inertia_h[i], ws.a[i], h)
         for k in range(6):
             ws.pA[i, k] += h[k]
 
     # -- inward: joint torques, forces handed to the parent
     for i in range(nb - 1, 0, -1):
-        tau_out[i - 1] = ws.pA[i, 2]
+        if km.joint_kind[i] == 0:
+            s = ws.pA[i, 2]
+        else:
+            s = 0.0
+            for k in range(6):
+                s += km.S[i, k] * ws.pA[i, k]
+        tau_out[i - 1] = s - ws.u[i]             # the outward pass left the joint's passive torque in u
         mat6T_vec_add(ws.Xup[i], ws.pA[i], ws.pA[km.parent[i]])
     for k in range(6):
         f_body_out[k] = ws.pA[0, k]

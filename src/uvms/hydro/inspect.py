@@ -71,17 +71,17 @@ def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None,
     a[0] = acc.nu_dot
     for i in range(1, nb):
         a[i] = ws.Xup[i] @ a[km.parent[i]] + ws.c[i]
-        a[i, 2] += acc.qdd[i - 1]
+        a[i] += km.S[i] * acc.qdd[i - 1]
     out = {c: np.zeros((nb, 6)) for c in CAUSES}
     rel = np.zeros((nb, 6))
     f = np.zeros((4, 6))
-    scratch = np.zeros((2, 6))
+    scratch = np.zeros((4, 6))
     zero3 = np.zeros(3)
 
     def forces(i, af):
-        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.link_drag[i],
-                          km.link_length[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], ws.v[i],
-                          ws.vc[i], af, ws.g[i], f, scratch)
+        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i], i == 0,
+                          km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], ws.v[i], ws.vc[i], af, ws.g[i], f,
+                          scratch)
 
     for i in range(nb):
         # velocity terms alone (no fluid acceleration), then the fluid-acceleration part as the difference

@@ -1,4 +1,7 @@
-"""Validated schema -> frozen :class:`~uvms.model.model.Model` (body 0 = vehicle, bodies 1..n = links)."""
+"""Validated schema -> frozen :class:`~uvms.model.model.Model` (body 0 = vehicle, bodies 1..n = links).
+
+:func:`build_model` builds a modified-DH model file; :func:`build_urdf_model` a URDF with its YAML additions.
+"""
 
 from __future__ import annotations
 
@@ -7,9 +10,9 @@ import numpy as np
 from uvms.checks import check_joint_axis_inertia
 from uvms.hydro.added_mass import cylinder_added_mass
 from uvms.model.model import Model
-from uvms.model.schema import ArmSpec, LinkSpec, ModelSpec, VehicleSpec, inertia_com
+from uvms.model.schema import ArmSpec, LinkSpec, ModelSpec, UrdfModelSpec, VehicleSpec, inertia_com
 from uvms.rotations import rotation_from_euler
-from uvms.spatial import modified_dh_pose, shift_spatial_inertia
+from uvms.spatial import modified_dh_pose, plucker, shift_spatial_inertia
 from uvms.thrusters.layouts import thruster_from_spec
 
 
@@ -80,3 +83,59 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         fluid_acceleration=np.array(env.fluid_acceleration),
         thrusters=tuple(thruster_from_spec(t, i) for i, t in enumerate(spec.thrusters)),
     )
+
+
+def _cylinder_rotation(axis) -> np.ndarray:
+    """A rotation whose x column is the unit ``axis``; y is the link's y (or z, for an axis near y) made
+    orthogonal to it, so that an axis along x gives the identity (Eq. 6's drag is axisymmetric anyway)."""
+    x = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    helper = np.eye(3)[1] if abs(x[1]) < 0.9 else np.eye(3)[2]
+    y = helper - (helper @ x) * x
+    y /= np.linalg.norm(y)
+    return np.column_stack([x, y, np.cross(x, y)])
+
+
+def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
+    """The :class:`Model` of a URDF (``urdf_path``, resolved by the caller) with the additions of ``spec``."""
+    from uvms.model.urdf import LinkHydro, VehicleExtras, model_from_urdf
+
+    env = spec.environment
+    rho = env.density
+    links: dict[str, LinkHydro] = {}
+    for name, link in spec.links.items():
+        hydro = LinkHydro()
+        if link.cylinder is not None:
+            c = link.cylinder
+            C = _cylinder_rotation(c.axis)
+            hydro.cylinder = (C, np.array(c.origin), c.radius, c.length, c.drag_coefficient)
+        if link.added_mass == "from_geometry":
+            c = link.cylinder
+            X = plucker(C.T, np.array(c.origin))        # link-to-cylinder motion transform
+            hydro.added_mass = X.T @ cylinder_added_mass(rho, c.radius, c.length) @ X
+        elif link.added_mass is not None:
+            hydro.added_mass = link.added_mass.value()
+        if link.buoyancy is not None:
+            hydro.fluid_mass = link.buoyancy.fluid_mass(rho)
+            hydro.center = np.array(link.buoyancy.center)
+        links[name] = hydro
+    vehicle = spec.vehicle
+    vehicle_hydro = LinkHydro()
+    if vehicle.added_mass is not None:
+        vehicle_hydro.added_mass = vehicle.added_mass.value()
+    if vehicle.buoyancy is not None:
+        vehicle_hydro.fluid_mass = vehicle.buoyancy.fluid_mass(rho)
+        vehicle_hydro.center = np.array(vehicle.buoyancy.center)
+    drag = vehicle.drag
+    extras = VehicleExtras(
+        name=spec.name, density=rho, gravity=env.gravity, current=env.current,
+        fluid_acceleration=env.fluid_acceleration,
+        vehicle_drag_area=drag.area if drag else (0.0, 0.0, 0.0),
+        vehicle_drag_coefficient=drag.coefficient if drag else (0.0, 0.0, 0.0),
+        vehicle_rotational_drag_side=drag.rotational.side if drag else 0.0,
+        vehicle_rotational_drag_coefficient=drag.rotational.coefficient if drag else 0.0,
+        vehicle_box=vehicle.box, vehicle_hydro=vehicle_hydro, links=links,
+        joints={name: {k: v for k, v in j.model_dump().items() if v is not None} for name, j in spec.joints.items()},
+        end_effector=spec.end_effector, fixed_joints=spec.fixed_joints,
+        thrusters=tuple(thruster_from_spec(t, i) for i, t in enumerate(spec.thrusters)), source=source,
+    )
+    return model_from_urdf(urdf_path, extras)

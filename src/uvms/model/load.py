@@ -19,9 +19,9 @@ from pydantic_core import ErrorDetails
 
 from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
-from uvms.model.build import build_model
+from uvms.model.build import build_model, build_urdf_model
 from uvms.model.model import Model
-from uvms.model.schema import UNION_TAGS, ModelSpec, show
+from uvms.model.schema import UNION_TAGS, ModelSpec, UrdfModelSpec, show
 from uvms.safe_yaml import read_yaml, read_yaml_mapping  # noqa: F401  (read_yaml re-exported)
 
 _MODELS = files("uvms.model") / "models"
@@ -120,25 +120,41 @@ def resolve_model_path(name_or_path: str | os.PathLike[str]) -> Path:
     return resolve_path(name_or_path, _MODELS, "model")
 
 
-def load_model_spec(name_or_path: str | os.PathLike[str]) -> tuple[ModelSpec, str]:
-    """The validated :class:`ModelSpec` of a bundled name or a path, and the file it came from."""
+def load_model_spec(name_or_path: str | os.PathLike[str]) -> tuple[ModelSpec | UrdfModelSpec, str]:
+    """The validated spec of a bundled name or a YAML path, and the file it came from: a
+    :class:`ModelSpec`, or a :class:`UrdfModelSpec` when the file has a ``urdf`` key."""
     path = resolve_model_path(name_or_path)
     source = str(path)
     data = read_yaml_mapping(path, "model fields")
+    schema = UrdfModelSpec if "urdf" in data else ModelSpec
     try:
-        return ModelSpec.model_validate(data), source
+        return schema.model_validate(data), source
     except ValidationError as exc:
-        raise validation_input_error(exc, source, schema=ModelSpec) from None
+        raise validation_input_error(exc, source, schema=schema) from None
 
 
 def load_model(name_or_path: str | os.PathLike[str]) -> Model:
-    """Load a model: a bundled name (``"paper"``, see :func:`bundled_models`) or a YAML file path.
+    """Load a model: a bundled name (``"paper"``, see :func:`bundled_models`), a model YAML file, or a robot
+    description (``.urdf``, ``.xacro``) whose root link is the vehicle (``docs/models.md``).
 
     Raises:
-        UvmsInputError: missing file, YAML syntax error or invalid content (one-line message).
+        UvmsInputError: missing file, YAML or XML syntax error or invalid content (one-line message).
     """
+    from uvms.model.urdf import is_robot_description, model_from_urdf
+
+    if is_robot_description(name_or_path) and Path(name_or_path).exists():
+        return model_from_urdf(name_or_path)
     spec, source = load_model_spec(name_or_path)
     try:
+        if isinstance(spec, UrdfModelSpec):
+            urdf = Path(spec.urdf)
+            if not urdf.is_absolute():
+                urdf = Path(source).parent / urdf
+            if not is_robot_description(urdf):
+                raise UvmsInputError(f"expected a .urdf or .xacro file, found {spec.urdf!r}", source, "urdf")
+            if not urdf.exists():
+                raise UvmsInputError(f"no such file: {urdf}", source, "urdf")
+            return build_urdf_model(spec, urdf, source)
         return build_model(spec, source)
     except UvmsInputError as exc:   # checks made while building (thruster parameters...) name the file too
         if exc.source is not None:

@@ -1,10 +1,14 @@
 """The frozen model: every physical parameter of a vehicle-manipulator system, in SI units.
 
-A :class:`Model` is built once from a validated model file (:mod:`uvms.model.build`) and never mutated.
-Bodies are numbered as in the paper: 0 is the vehicle, 1..n the arm links (link i moves with joint i).
+A :class:`Model` is built once from a validated model file (:mod:`uvms.model.build`, or a URDF through
+:mod:`uvms.model.urdf`) and never mutated. Bodies form a kinematic tree rooted at the vehicle (body 0);
+body ``i >= 1`` moves with joint ``i - 1`` (revolute, continuous or prismatic) relative to its parent body
+``joint_parent[i - 1] < i``, so bodies are in depth-first order and the joint order is the order of ``q``.
 Every per-body array has a leading axis of length ``n_bodies = n_joints + 1``; per-joint arrays have length
 ``n_joints``. Spatial quantities are ``[angular; linear]`` and expressed in the body's own frame, about its
 frame origin (the vehicle's reference point, or the link's joint), unless a name says otherwise.
+Named frames (:class:`Frame`) are fixed in a body: every body, every link merged into a body by a fixed
+joint, and the end effector (``docs/models.md``).
 
 The compiled kernels read :attr:`Model.kernel`, a :class:`uvms.dynamics.kernel_model.KernelModel` of flat
 arrays derived from the fields below when the model is built.
@@ -22,6 +26,28 @@ def _frozen(a: Any, dtype=float) -> np.ndarray:
     out = np.array(a, dtype=dtype, copy=True)
     out.setflags(write=False)
     return out
+
+
+JOINT_TYPES = ("revolute", "continuous", "prismatic")
+"""Joint types of a model (URDF names); a fixed joint merges its child into the parent body instead."""
+
+END_EFFECTOR = "end_effector"
+"""Name of the end-effector frame."""
+
+
+@dataclass(frozen=True, eq=False)
+class Frame:
+    """A named frame fixed in a body: ``rotation`` (frame to body axes) and ``position`` [m] in the body frame."""
+
+    name: str
+    body: int
+    rotation: np.ndarray
+    position: np.ndarray
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "body", int(self.body))
+        object.__setattr__(self, "rotation", _frozen(np.reshape(self.rotation, (3, 3))))
+        object.__setattr__(self, "position", _frozen(np.reshape(self.position, 3)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -47,19 +73,34 @@ class Model:
         vehicle_rotational_drag_coefficient: drag coefficient of the strips [-] (Eq. 4).
         vehicle_box: (3,) box dimensions of the vehicle [m] (for plots and geometry helpers).
         link_radius: (n,) cylinder radius of each link [m] (Eq. 6).
-        link_length: (n,) cylinder length along the link x axis, from the joint [m] (Eq. 6).
+        link_length: (n,) cylinder length along its axis, from its origin [m] (Eq. 6).
         link_drag_coefficient: (n,) normal-flow drag coefficient of each link [-] (Eq. 6).
-        joint_rotation: (n, 3, 3) orientation of joint frame i in its parent frame before the joint angle
-            (mount transform and modified-DH ``RotX(alpha_prev)``).
-        joint_position: (n, 3) origin of joint frame i in its parent frame [m].
-        theta_offset: (n,) modified-DH ``theta_offset``; the link rotates by ``q + theta_offset`` about z [rad].
-        ee_rotation: (3, 3) end-effector frame orientation in the last link's frame.
-        ee_position: (3,) end-effector origin in the last link's frame [m].
+        joint_rotation: (n, 3, 3) orientation of joint frame i in its parent body's frame at ``q_i = 0``
+            (mount transform and modified-DH ``RotX(alpha_prev)``, or the URDF joint origin).
+        joint_position: (n, 3) origin of joint frame i in its parent body's frame [m].
+        theta_offset: (n,) joint offset: the joint moves by ``q + theta_offset`` (modified-DH ``theta_offset``)
+            [rad or m].
+        ee_rotation: (3, 3) end-effector frame orientation in the frame of body ``ee_body``.
+        ee_position: (3,) end-effector origin in the frame of body ``ee_body`` [m].
         density: fluid density ``rho`` [kg/m^3].
         gravity: (3,) gravitational acceleration in the world frame (z down) [m/s^2].
         current: (3,) default constant current velocity in the world frame [m/s].
         fluid_acceleration: (3,) default fluid acceleration in the world frame [m/s^2].
         thrusters: thruster layout (tuple of thruster descriptions; empty for ideal actuation).
+        joint_names: (n,) joint names in tree order (the order of ``q``); ``joint1..n`` by default.
+        joint_parent: (n,) parent body of joint i's child body ``i + 1`` (``< i + 1``); a chain by default.
+        joint_type: (n,) ``"revolute"``, ``"continuous"`` or ``"prismatic"`` (:data:`JOINT_TYPES`).
+        joint_axis: (n, 3) unit joint axis in the joint frame (z by default, as in modified DH).
+        joint_damping: (n,) viscous joint damping ``b`` [N m s/rad or N s/m].
+        joint_friction: (n,) Coulomb joint friction ``F_c`` [N m or N].
+        joint_friction_speed: (n,) regularisation speed ``v_s`` of the Coulomb law [rad/s or m/s]:
+            ``tau_f = -F_c clip(qd / v_s, -1, 1)`` (``docs/models.md``, "Joint damping and friction").
+        joint_limits: (n, 4) ``[lower, upper, effort, velocity]`` (``inf`` where none).
+        link_cylinder_rotation: (n, 3, 3) cylinder axes in the link frame (the cylinder runs along its x
+            column; identity for DH links).
+        link_cylinder_origin: (n, 3) where the cylinder starts, link frame [m] (zero for DH links).
+        ee_body: body the end effector is fixed in (the last body by default).
+        frames: named frames (:class:`Frame`); by default one per body (its own frame) and the end effector.
     """
 
     name: str
@@ -89,14 +130,55 @@ class Model:
     current: np.ndarray
     fluid_acceleration: np.ndarray
     thrusters: tuple = ()
+    joint_names: tuple[str, ...] | None = None
+    joint_parent: Any = None
+    joint_type: tuple[str, ...] | None = None
+    joint_axis: Any = None
+    joint_damping: Any = None
+    joint_friction: Any = None
+    joint_friction_speed: Any = None
+    joint_limits: Any = None
+    link_cylinder_rotation: Any = None
+    link_cylinder_origin: Any = None
+    ee_body: int | None = None
+    frames: tuple[Frame, ...] | None = None
     kernel: Any = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
+        n = int(np.shape(self.mass)[0]) - 1
+        defaults = {
+            "joint_names": tuple(f"joint{i + 1}" for i in range(n)),
+            "joint_parent": np.arange(n),
+            "joint_type": ("revolute",) * n,
+            "joint_axis": np.tile([0.0, 0.0, 1.0], (n, 1)),
+            "joint_damping": np.zeros(n),
+            "joint_friction": np.zeros(n),
+            "joint_friction_speed": np.full(n, DEFAULT_FRICTION_SPEED),
+            "joint_limits": np.tile([-np.inf, np.inf, np.inf, np.inf], (n, 1)),
+            "link_cylinder_rotation": np.tile(np.eye(3), (n, 1, 1)),
+            "link_cylinder_origin": np.zeros((n, 3)),
+            "ee_body": n,
+        }
+        for name, value in defaults.items():
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, value)
+        if self.frames is None:
+            object.__setattr__(self, "frames", tuple(Frame(b, i, np.eye(3), np.zeros(3))
+                                                     for i, b in enumerate(self.body_names))
+                               + (Frame(END_EFFECTOR, self.ee_body, self.ee_rotation, self.ee_position),))
+        object.__setattr__(self, "joint_names", tuple(str(j) for j in self.joint_names))
+        object.__setattr__(self, "joint_type", tuple(str(j) for j in self.joint_type))
+        object.__setattr__(self, "frames", tuple(self.frames))
+        object.__setattr__(self, "ee_body", int(self.ee_body))
+        object.__setattr__(self, "joint_parent", _frozen(np.reshape(self.joint_parent, n), dtype=np.int64))
         for name in ("mass", "com", "inertia_com", "added_mass", "buoyancy_mass", "cob", "vehicle_drag_area",
                      "vehicle_drag_coefficient", "vehicle_box", "link_radius", "link_length",
                      "link_drag_coefficient", "joint_rotation", "joint_position", "theta_offset", "ee_rotation",
-                     "ee_position", "gravity", "current", "fluid_acceleration"):
+                     "ee_position", "gravity", "current", "fluid_acceleration", "joint_axis", "joint_damping",
+                     "joint_friction", "joint_friction_speed", "joint_limits", "link_cylinder_rotation",
+                     "link_cylinder_origin"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
+        self._check_tree(n)
         object.__setattr__(self, "vehicle_rotational_drag_side", float(self.vehicle_rotational_drag_side))
         object.__setattr__(self, "vehicle_rotational_drag_coefficient",
                            float(self.vehicle_rotational_drag_coefficient))
@@ -104,14 +186,58 @@ class Model:
         from uvms.checks import check_joint_axis_inertia
         from uvms.dynamics.kernel_model import kernel_model_from
 
-        check_joint_axis_inertia(self.mass, self.com, self.inertia_com, self.added_mass, source=self.source,
+        check_joint_axis_inertia(self.mass, self.com, self.inertia_com, self.added_mass, joint_axis=self.joint_axis,
+                                 joint_type=self.joint_type, source=self.source,
                                  where=lambda j: f"link {self.body_names[j + 1]!r} (body {j + 1})")
 
         object.__setattr__(self, "kernel", kernel_model_from(self))
 
+    def _check_tree(self, n: int) -> None:
+        """Programming-error checks of the tree arrays (user files are checked when they are read)."""
+        if len(self.joint_names) != n or len(self.joint_type) != n or len(self.body_names) != n + 1:
+            raise ValueError("joint_names, joint_type and body_names must have n, n and n + 1 entries")
+        if any(not 0 <= int(p) <= i for i, p in enumerate(self.joint_parent)):
+            raise ValueError("joint_parent[i] must be a body before body i + 1 (depth-first order)")
+        if any(t not in JOINT_TYPES for t in self.joint_type):
+            raise ValueError(f"joint_type entries must be one of {JOINT_TYPES}")
+        if self.joint_axis.shape != (n, 3) or np.any(np.abs(np.linalg.norm(self.joint_axis, axis=1) - 1) > 1e-12):
+            raise ValueError("joint_axis must be (n, 3) unit vectors")
+        if not 0 <= self.ee_body <= n or any(not 0 <= f.body <= n for f in self.frames):
+            raise ValueError("ee_body and every frame's body must be a body index")
+        names = [f.name for f in self.frames]
+        if len(set(names)) != len(names):
+            raise ValueError("frame names must be unique")
+
+    @property
+    def frame_names(self) -> tuple[str, ...]:
+        """Names of every frame (bodies, merged links, the end effector), in tree order."""
+        return tuple(f.name for f in self.frames)
+
+    def frame(self, name: str) -> Frame:
+        """The named frame; ``KeyError`` listing the names when there is none."""
+        for f in self.frames:
+            if f.name == name:
+                return f
+        raise KeyError(f"model {self.name!r} has no frame {name!r}; frames: {', '.join(self.frame_names)}")
+
+    def joint_index(self, name: str) -> int:
+        """Index of a joint in ``q``; ``KeyError`` listing the names when there is none."""
+        try:
+            return self.joint_names.index(name)
+        except ValueError:
+            raise KeyError(f"model {self.name!r} has no joint {name!r}; joints: "
+                           f"{', '.join(self.joint_names) or '(none)'}") from None
+
+    def with_end_effector(self, frame: str) -> "Model":
+        """A copy whose end effector (for ``ee_wrench`` and the end-effector metrics) is the named frame."""
+        f = self.frame(frame)
+        frames = tuple(x for x in self.frames if x.name != END_EFFECTOR) + (
+            Frame(END_EFFECTOR, f.body, f.rotation, f.position),)
+        return self.replace(ee_body=f.body, ee_rotation=f.rotation, ee_position=f.position, frames=frames)
+
     @property
     def n_joints(self) -> int:
-        """Number of revolute arm joints ``n``."""
+        """Number of joints ``n`` (the size of ``q``)."""
         return int(self.mass.shape[0] - 1)
 
     @property
@@ -125,12 +251,21 @@ class Model:
         return 6 + self.n_joints
 
     def replace(self, **changes: Any) -> "Model":
-        """A new model with some fields changed (the model itself is never mutated)."""
+        """A new model with some fields changed (the model itself is never mutated).
+
+        When ``mass`` changes the number of bodies, the joint and frame fields that are not given are reset to
+        their defaults (a chain of revolute z joints, one frame per body and the end effector on the last).
+        """
+        if "mass" in changes and np.shape(changes["mass"])[0] != self.n_bodies:
+            for name in _TREE_FIELDS:
+                changes.setdefault(name, None)
         return replace(self, **changes)
 
     def with_effects(self, *, added_mass: bool = True, drag: bool = True, buoyancy: bool = True,
-                     gravity: bool = True, current: bool = True) -> "Model":
+                     gravity: bool = True, current: bool = True, joint_friction: bool = True) -> "Model":
         """A copy with some physical effects switched off (their parameters set to zero).
+
+        ``joint_friction=False`` removes joint damping and Coulomb friction.
 
         ``buoyancy=False`` removes the displaced-fluid force of Eqs. 7-8 (buoyancy and fluid acceleration).
         """
@@ -148,6 +283,9 @@ class Model:
         if not current:
             changes["current"] = np.zeros(3)
             changes["fluid_acceleration"] = np.zeros(3)
+        if not joint_friction:
+            changes["joint_damping"] = np.zeros_like(self.joint_damping)
+            changes["joint_friction"] = np.zeros_like(self.joint_friction)
         return self.replace(**changes)
 
     def with_hydrodynamics_scaled(self, *, added_mass: float = 1.0, drag: float = 1.0) -> "Model":
@@ -199,3 +337,10 @@ class Model:
         body = "".join(f"<tr><th style='text-align:left'>{html.escape(a)}</th>"
                        f"<td style='text-align:left'>{html.escape(b)}</td></tr>" for a, b in rows)
         return f"<div><b>uvms Model</b> (uvms.show(model) draws it)<table>{body}</table></div>"
+
+_TREE_FIELDS = ("joint_names", "joint_parent", "joint_type", "joint_axis", "joint_damping", "joint_friction",
+                "joint_friction_speed", "joint_limits", "link_cylinder_rotation", "link_cylinder_origin", "ee_body",
+                "frames")
+
+DEFAULT_FRICTION_SPEED = 0.01
+"""Default regularisation speed ``v_s`` of the joint Coulomb friction [rad/s or m/s] (``docs/models.md``)."""

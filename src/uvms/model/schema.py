@@ -1,4 +1,6 @@
-"""Schema of a model YAML file (pydantic v2); ``models/paper.yaml`` is the annotated example.
+"""Schema of a model YAML file (pydantic v2); ``models/paper.yaml`` is the annotated example, ``docs/models.md``
+the reference. A model file either describes the robot itself (:class:`ModelSpec`: modified-DH rows of a serial
+arm) or names a URDF and adds what URDF cannot hold (:class:`UrdfModelSpec`, ``models/paper_urdf.yaml``).
 
 SI units throughout; spatial 6-vectors and 6x6 matrices are ``[angular; linear]`` (``docs/conventions.md``).
 Every model is frozen and forbids unknown keys. Besides shapes and signs, the physics is checked here:
@@ -346,6 +348,115 @@ class ModelSpec(Spec):
     environment: EnvironmentSpec = EnvironmentSpec()
     vehicle: VehicleSpec
     arm: ArmSpec | None = None
+    thrusters: tuple[ThrusterSpec, ...] = ()
+
+    @field_validator("thrusters")
+    @classmethod
+    def _thrusters(cls, thrusters: tuple[ThrusterSpec, ...]) -> tuple[ThrusterSpec, ...]:
+        _unique([t.name for t in thrusters], "thruster")
+        return thrusters
+
+
+# --- a URDF and its additions (docs/models.md, "URDF") ----------------------------------------------------
+
+
+class OriginAddedMassSpec(_AddedMassSpec):
+    """Added mass of a URDF link or of the vehicle (root link), about the link-frame origin, link axes."""
+
+    about: Literal["origin"]
+
+
+def _urdf_added_mass_kind(value: Any) -> str:
+    return "mapping" if isinstance(value, dict) else "string"
+
+
+UrdfLinkAddedMass = Annotated[
+    Annotated[Literal["from_geometry"], BeforeValidator(_from_geometry), Tag("string")]
+    | Annotated[OriginAddedMassSpec, Tag("mapping")],
+    Discriminator(_urdf_added_mass_kind),
+]
+
+
+class FluidVolumeSpec(Spec):
+    """Displaced fluid of a link: its ``mass`` [kg] or its ``volume`` [m^3] (mass = density x volume), and the
+    centre of buoyancy ``center`` [m, link frame] (Eqs. 7-8)."""
+
+    mass: NonNegative | None = None
+    volume: NonNegative | None = None
+    center: Vec3 = ZERO3
+
+    @model_validator(mode="after")
+    def _one_form(self) -> FluidVolumeSpec:
+        if (self.mass is None) == (self.volume is None):
+            found = "both" if self.mass is not None else "neither"
+            raise fail(f"expected exactly one of 'mass' or 'volume', found {found}")
+        return self
+
+    def fluid_mass(self, density: float) -> float:
+        """Displaced-fluid mass [kg]."""
+        return float(self.mass) if self.mass is not None else float(density * self.volume)
+
+
+class LinkCylinderSpec(Spec):
+    """A drag cylinder on a URDF link (Eq. 6): from ``origin`` along ``axis`` (link frame) for ``length``."""
+
+    radius: NonNegative                           # r [m]
+    length: NonNegative                           # L [m]
+    drag_coefficient: NonNegative                 # normal-flow Cd [-]
+    axis: Vec3 = (1.0, 0.0, 0.0)                  # direction, link frame (normalised)
+    origin: Vec3 = ZERO3                          # start of the cylinder, link frame [m]
+
+    @field_validator("axis")
+    @classmethod
+    def _nonzero(cls, axis: tuple[float, float, float]) -> tuple[float, float, float]:
+        if not any(axis):
+            raise fail(f"expected a non-zero axis, found {show(list(axis))}")
+        return axis
+
+
+class UrdfLinkSpec(Spec):
+    """Hydrodynamics of one URDF link, in its own frame (all optional)."""
+
+    added_mass: UrdfLinkAddedMass | None = None   # or "from_geometry" (strip theory for the cylinder)
+    buoyancy: FluidVolumeSpec | None = None
+    cylinder: LinkCylinderSpec | None = None
+
+    @model_validator(mode="after")
+    def _geometry(self) -> UrdfLinkSpec:
+        if self.added_mass == "from_geometry" and self.cylinder is None:
+            raise fail("expected a 'cylinder' for added_mass: from_geometry, found none", "added_mass")
+        return self
+
+
+class UrdfVehicleSpec(Spec):
+    """Hydrodynamics of the vehicle (the URDF's root link; its frame is the vehicle frame)."""
+
+    added_mass: OriginAddedMassSpec | None = None
+    buoyancy: FluidVolumeSpec | None = None
+    drag: VehicleDragSpec | None = None
+    box: NonNegativeVec3 = ZERO3                  # box dimensions [m] (plots)
+
+
+class UrdfJointSpec(Spec):
+    """Joint damping and friction replacing the URDF's ``<dynamics>`` values (docs/models.md)."""
+
+    damping: NonNegative | None = None            # b [N m s/rad or N s/m]
+    friction: NonNegative | None = None           # Coulomb F_c [N m or N]
+    friction_speed: Positive | None = None        # regularisation speed v_s [rad/s or m/s]
+
+
+class UrdfModelSpec(Spec):
+    """A model file naming a URDF (or xacro) and adding what URDF cannot hold; the URDF stays untouched."""
+
+    urdf: Name                                    # path, relative to this file
+    name: Name | None = None                      # default: the URDF's robot name
+    description: str | None = None
+    environment: EnvironmentSpec = EnvironmentSpec()
+    vehicle: UrdfVehicleSpec = UrdfVehicleSpec()
+    links: dict[Name, UrdfLinkSpec] = {}
+    joints: dict[Name, UrdfJointSpec] = {}
+    fixed_joints: tuple[Name, ...] = ()           # frozen at zero (e.g. mimic joints)
+    end_effector: Name | None = None              # a link (frame) name; default: the deepest link
     thrusters: tuple[ThrusterSpec, ...] = ()
 
     @field_validator("thrusters")

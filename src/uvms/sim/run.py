@@ -315,8 +315,24 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     end_effector_path(km, np.ascontiguousarray(out_x), ee)
     meta = {"integrator": integrator, "step_s": h, "duration_s": duration, "fixed_base": bool(fixed_base),
             "wall_time_s": _time.perf_counter() - wall0, "model": model.name, **_versions(), **(metadata or {})}
+    _report_joint_limits(model, out_t, out_x, out_tau, meta)
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
                   signals=sig, complete=complete, message=message, metadata=meta)
+
+
+def _report_joint_limits(model, t, x, tau, meta: dict) -> None:
+    """Joint limits crossed in the run (:func:`uvms.model.limits.joint_limit_crossings`): a warning, and the
+    lines under ``metadata["joint_limit_crossings"]``."""
+    from uvms.model.limits import joint_limit_crossings
+
+    n = model.n_joints
+    lines = joint_limit_crossings(model, t, x[:, 13:13 + n], x[:, 13 + n:13 + 2 * n], tau)
+    if lines:
+        import warnings
+
+        meta["joint_limit_crossings"] = lines
+        warnings.warn(f"{model.name}: {lines[0]}" + (f" (and {len(lines) - 1} more)" if len(lines) > 1 else ""),
+                      stacklevel=3)
 
 
 def check_steps(duration: float, step: float) -> int:

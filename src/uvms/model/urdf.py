@@ -1,0 +1,477 @@
+"""URDF (and xacro) robot descriptions -> :class:`~uvms.model.model.Model` (``docs/models.md``, "URDF").
+
+The URDF is parsed by ``yourdfpy`` (xacro expanded by ``xacrodoc``, without ROS); this module only turns the
+parsed links and joints into a kinematic tree and checks it:
+
+* the root link (the one link that is no joint's child) is the vehicle: its frame is the vehicle frame and
+  ``nu`` is that frame's body velocity ``[angular; linear]`` (it need not be the centre of mass);
+* revolute, continuous and prismatic joints move a body about / along a unit axis of the joint frame (URDF
+  default ``x`` when ``<axis>`` is absent); a fixed joint merges its child link into the parent body, adding its
+  spatial inertia (Featherstone 2008, Sec. 2.13: inertias about one point add) and its hydrodynamics, and the
+  child stays a named frame (as Pinocchio's URDF parser does);
+* bodies and joints are in depth-first order from the root, children in file order: that is the order of ``q``;
+* ``<dynamics damping friction>`` become joint damping and Coulomb friction, ``<limit>`` the joint limits;
+* mimic joints, floating and planar joints, loops, several roots and unphysical inertias are refused with a
+  one-line :class:`~uvms.errors.UvmsInputError` naming the file and the link or joint.
+
+Hydrodynamics cannot be written in URDF: a model YAML with ``urdf:`` adds them per link name
+(:class:`uvms.model.schema.UrdfModelSpec`); a bare URDF gives a model with every hydrodynamic effect zero.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import os
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from uvms.errors import UvmsInputError
+from uvms.model.model import DEFAULT_FRICTION_SPEED, END_EFFECTOR, Frame, Model
+from uvms.spatial import plucker, skew, spatial_inertia
+
+URDF_SUFFIXES = (".urdf", ".xacro")
+"""File suffixes read as robot descriptions (``.urdf.xacro`` ends in ``.xacro``)."""
+
+MOVING = ("revolute", "continuous", "prismatic")
+RELATIVE_TOLERANCE = 1e-9
+"""Relative tolerance of the inertia checks (as :data:`uvms.model.schema.RELATIVE_TOLERANCE`)."""
+
+
+def is_robot_description(path: str | os.PathLike[str]) -> bool:
+    """Whether a path names a URDF or xacro file (by its suffix)."""
+    return str(path).lower().endswith(URDF_SUFFIXES)
+
+
+def read_urdf_text(path: str | os.PathLike[str]) -> str:
+    """The URDF text of a ``.urdf`` file, or of a ``.xacro`` file expanded by ``xacrodoc`` (no ROS needed)."""
+    path = Path(path)
+    source = str(path)
+    if not path.exists():
+        raise UvmsInputError("no such file", source)
+    if not path.is_file():
+        raise UvmsInputError("expected a URDF file, found a directory" if path.is_dir()
+                             else "expected a URDF file, found something that is not a regular file", source)
+    if path.suffix.lower() == ".xacro":
+        try:
+            from xacrodoc import XacroDoc
+
+            return XacroDoc.from_file(str(path)).to_urdf_string()
+        except Exception as exc:  # xacrodoc raises many kinds: each is a problem of the user's file
+            raise UvmsInputError(f"cannot expand xacro: {' '.join(str(exc).split()) or type(exc).__name__}",
+                                 source) from None
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise UvmsInputError(f"cannot read URDF: {exc}", source) from None
+
+
+def _parse(text: str, source: str):
+    """``yourdfpy``'s robot of a URDF text; XML syntax errors (which yourdfpy would try to recover from) and
+    a document that is not a ``<robot>`` are refused first."""
+    from xml.etree import ElementTree
+
+    try:
+        root = ElementTree.fromstring(text.encode("utf-8"))
+    except ElementTree.ParseError as exc:
+        line, column = exc.position
+        message = str(exc).split(":")[0]
+        raise UvmsInputError(f"invalid XML: {message}", source, f"line {line}, column {column + 1}") from None
+    if root.tag != "robot":
+        raise UvmsInputError(f"expected a <robot> element at the top level, found <{root.tag}>", source)
+    import yourdfpy
+
+    try:
+        urdf = yourdfpy.URDF.load(io.BytesIO(text.encode("utf-8")), load_meshes=False, build_scene_graph=False,
+                                  build_collision_scene_graph=False, load_collision_meshes=False)
+    except Exception as exc:  # yourdfpy's own errors on content it cannot read (bad numbers, ...)
+        raise UvmsInputError(f"invalid URDF: {' '.join(str(exc).split()) or type(exc).__name__}", source) from None
+    return urdf.robot
+
+
+def _pose(origin: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``(R, p)`` of a yourdfpy 4x4 origin (identity when absent)."""
+    if origin is None:
+        return np.eye(3), np.zeros(3)
+    T = np.asarray(origin, dtype=float)
+    return T[:3, :3].copy(), T[:3, 3].copy()
+
+
+def check_link_inertia(mass: float, inertia: np.ndarray, source: str | None, where: str) -> None:
+    """A link's mass ``>= 0`` and rotational inertia about its CoM symmetric positive semi-definite with
+    ``I1 + I2 >= I3`` (relative tolerance :data:`RELATIVE_TOLERANCE`); a massless link (a frame) may have
+    zero inertia."""
+    if not math.isfinite(mass) or mass < 0.0:
+        raise UvmsInputError(f"expected a mass >= 0, found {mass:g}", source, where)
+    if not np.all(np.isfinite(inertia)):
+        raise UvmsInputError("expected a finite inertia", source, where)
+    scale = max(float(np.abs(inertia).max()), 1e-300)
+    if np.abs(inertia - inertia.T).max() > RELATIVE_TOLERANCE * scale:
+        raise UvmsInputError("expected a symmetric inertia", source, where)
+    moments = np.linalg.eigvalsh(0.5 * (inertia + inertia.T))
+    tol = RELATIVE_TOLERANCE * max(float(np.sum(np.abs(moments))), 1e-300)
+    if moments[0] < -tol:
+        raise UvmsInputError("expected a positive semi-definite inertia, found principal moments "
+                             f"[{', '.join(f'{m:.6g}' for m in moments)}]", source, where)
+    if moments[0] + moments[1] < moments[2] - tol:
+        raise UvmsInputError("expected principal moments with I1 + I2 >= I3 (triangle inequality), found "
+                             f"[{', '.join(f'{m:.6g}' for m in moments)}]", source, where)
+    if mass == 0.0 and moments[2] > 0.0:
+        raise UvmsInputError("expected zero inertia for a link of zero mass, found principal moments "
+                             f"[{', '.join(f'{m:.6g}' for m in moments)}]", source, where)
+
+
+@dataclass
+class LinkHydro:
+    """Hydrodynamics of one link, in its own frame (from the YAML additions): added mass about the link
+    origin (6x6, ``[angular; linear]``), displaced-fluid mass and centre, an optional drag cylinder."""
+
+    added_mass: np.ndarray = field(default_factory=lambda: np.zeros((6, 6)))
+    fluid_mass: float = 0.0
+    center: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    cylinder: tuple[np.ndarray, np.ndarray, float, float, float] | None = None
+    """``(rotation with x along the axis, origin, radius, length, drag coefficient)``, link frame."""
+
+
+@dataclass
+class VehicleExtras:
+    """What the YAML additions give beyond the URDF (all optional; zero hydrodynamics by default)."""
+
+    name: str | None = None
+    density: float = 1000.0
+    gravity: tuple = (0.0, 0.0, 9.81)
+    current: tuple = (0.0, 0.0, 0.0)
+    fluid_acceleration: tuple = (0.0, 0.0, 0.0)
+    vehicle_drag_area: tuple = (0.0, 0.0, 0.0)
+    vehicle_drag_coefficient: tuple = (0.0, 0.0, 0.0)
+    vehicle_rotational_drag_side: float = 0.0
+    vehicle_rotational_drag_coefficient: float = 0.0
+    vehicle_box: tuple = (0.0, 0.0, 0.0)
+    vehicle_hydro: LinkHydro | None = None
+    """Added mass and buoyancy of the vehicle, in the root link's frame (its drag is given above)."""
+    links: dict[str, LinkHydro] = field(default_factory=dict)
+    joints: dict[str, dict[str, float]] = field(default_factory=dict)
+    end_effector: str | None = None
+    fixed_joints: tuple[str, ...] = ()
+    """Joints treated as fixed at their zero position (e.g. mimic joints of a gripper)."""
+    thrusters: tuple = ()
+    source: str | None = None
+    """The additions file (named in errors about its link names)."""
+
+
+@dataclass
+class _Body:
+    link: str
+    joint: Any = None                  # yourdfpy joint moving this body (None for the root)
+    parent: int = -1
+    R_joint: np.ndarray = field(default_factory=lambda: np.eye(3))   # joint frame in the parent body
+    p_joint: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    inertia: np.ndarray = field(default_factory=lambda: np.zeros((6, 6)))
+    added_mass: np.ndarray = field(default_factory=lambda: np.zeros((6, 6)))
+    fluid_mass: float = 0.0
+    fluid_moment: np.ndarray = field(default_factory=lambda: np.zeros(3))   # sum of m_f * centre
+    cylinder: tuple | None = None
+    cylinder_link: str | None = None
+
+
+def _tree(robot, source: str):
+    """Checked tree: ``(root link name, children by link: [(joint, child)...], parent joint by link)``."""
+    links = [link.name for link in robot.links]
+    seen: set[str] = set()
+    for name in links:
+        if name in seen:
+            raise UvmsInputError("link defined twice", source, f"link {name!r}")
+        seen.add(name)
+    children: dict[str, list] = {name: [] for name in links}
+    parent_joint: dict[str, Any] = {}
+    joint_names: set[str] = set()
+    for joint in robot.joints:
+        where = f"joint {joint.name!r}"
+        if joint.name in joint_names:
+            raise UvmsInputError("joint defined twice", source, where)
+        joint_names.add(joint.name)
+        for role, link in (("parent", joint.parent), ("child", joint.child)):
+            if link not in seen:
+                raise UvmsInputError(f"its {role} link {link!r} is not defined", source, where)
+        if joint.child in parent_joint:
+            raise UvmsInputError(f"link {joint.child!r} is already the child of joint "
+                                 f"{parent_joint[joint.child].name!r} (a loop: a URDF is a tree)", source, where)
+        parent_joint[joint.child] = joint
+        children[joint.parent].append(joint)
+    roots = [name for name in links if name not in parent_joint]
+    if not links:
+        raise UvmsInputError("expected at least one <link>, found none", source)
+    if len(roots) > 1:
+        raise UvmsInputError(f"expected one root link, found {len(roots)}: {', '.join(map(repr, roots[:4]))}"
+                             f"{' ...' if len(roots) > 4 else ''} (every other link must be a joint's child)", source)
+    if not roots:
+        raise UvmsInputError("expected one root link, found none: the joints form a loop", source)
+    reached = {roots[0]}
+    stack = [roots[0]]
+    while stack:
+        for joint in children[stack.pop()]:
+            reached.add(joint.child)
+            stack.append(joint.child)
+    if len(reached) != len(links):
+        lost = next(name for name in links if name not in reached)
+        raise UvmsInputError("the joints form a loop that does not reach the root link", source,
+                             f"joint {parent_joint[lost].name!r}")
+    return roots[0], children
+
+
+def _check_joint(joint, source: str, frozen: tuple[str, ...] = ()) -> np.ndarray | None:
+    """The joint's unit axis (moving joints) or ``None`` (fixed, or frozen by the YAML additions' ``fixed_joints``
+    at its zero position), after checking its type and mimic."""
+    where = f"joint {joint.name!r}"
+    if joint.name in frozen:
+        return None
+    if joint.mimic is not None:
+        raise UvmsInputError(f"mimic joints are not supported (it mimics {joint.mimic.joint!r}); freeze it with "
+                             "'fixed_joints' in a model YAML, or make it fixed or independent", source, where)
+    if joint.type == "fixed":
+        return None
+    if joint.type not in MOVING:
+        known = "revolute, continuous, prismatic or fixed"
+        kind = "unsupported" if joint.type in ("floating", "planar") else "unknown"
+        raise UvmsInputError(f"{kind} joint type {joint.type!r}; expected {known}", source, where)
+    axis = np.array([1.0, 0.0, 0.0]) if joint.axis is None else np.asarray(joint.axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if not math.isfinite(norm) or norm < 1e-12:
+        raise UvmsInputError(f"expected a non-zero joint axis, found {list(map(float, axis))}", source, where)
+    return axis / norm
+
+
+def _link_inertia(link, source: str) -> np.ndarray:
+    """6x6 spatial inertia of a link about its own origin, in its own axes (zero without ``<inertial>``)."""
+    inertial = link.inertial
+    if inertial is None:
+        return np.zeros((6, 6))
+    mass = float(inertial.mass) if inertial.mass is not None else 0.0
+    I = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia, dtype=float)
+    check_link_inertia(mass, I, source, f"link {link.name!r}")
+    R, c = _pose(inertial.origin)
+    return spatial_inertia(mass, c, R @ I @ R.T)
+
+
+def _to_body(I_link: np.ndarray, R: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """A 6x6 inertia about a link's origin in link axes, moved to the body frame in which the link has pose
+    ``(R, p)``: ``X^T I X`` with ``X`` the body-to-link motion transform (Featherstone Eq. 2.66)."""
+    X = plucker(R.T, p)
+    return X.T @ I_link @ X
+
+
+def _mass_properties(I: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+    """``(mass, com, inertia about the com)`` of a 6x6 spatial inertia about the body origin."""
+    m = float(I[3, 3])
+    if m <= 0.0:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    C = I[0:3, 3:6] / m                           # m skew(c)
+    c = np.array([C[2, 1], C[0, 2], C[1, 0]])
+    I_com = I[0:3, 0:3] - m * skew(c) @ skew(c).T
+    return m, c, 0.5 * (I_com + I_com.T)
+
+
+def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None = None) -> Model:
+    """The :class:`Model` of a URDF or xacro file, with the hydrodynamics and environment of ``extras``.
+
+    Raises:
+        UvmsInputError: unreadable or invalid description, or additions naming links it lacks (one line).
+    """
+    source = str(path)
+    extras = extras or VehicleExtras()
+    robot = _parse(read_urdf_text(path), source)
+    _warn_missing_meshes(robot, Path(path).parent, source)
+    root, children = _tree(robot, source)
+    links = {link.name: link for link in robot.links}
+    joint_names = {joint.name for joint in robot.joints}
+    for k, name in enumerate(extras.fixed_joints):
+        if name not in joint_names:
+            raise UvmsInputError(f"names joint {name!r}, which the URDF {source} does not have", extras.source,
+                                 f"fixed_joints[{k}]")
+    for name in extras.links:
+        if name not in links:
+            raise UvmsInputError(f"names link {name!r}, which the URDF {source} does not have", extras.source,
+                                 f"links.{name}")
+
+    bodies: list[_Body] = []
+    frames: list[tuple[str, int, np.ndarray, np.ndarray, int]] = []    # name, body, R, p, depth
+    axes: list[np.ndarray] = []
+    # depth first over the links, children in file order; a moving joint's child starts a new body when visited
+    stack: list[tuple] = [(root, None, np.eye(3), np.zeros(3), 0, None)]
+    while stack:
+        name, b, R, p, depth, moving = stack.pop()
+        if b is None:
+            b = len(bodies)
+            if moving is None:
+                bodies.append(_Body(link=name))
+            else:
+                joint, parent, R_joint, p_joint, axis = moving
+                bodies.append(_Body(link=name, joint=joint, parent=parent, R_joint=R_joint, p_joint=p_joint))
+                axes.append(axis)
+        frames.append((name, b, R, p, depth))
+        body = bodies[b]
+        body.inertia = body.inertia + _to_body(_link_inertia(links[name], source), R, p)
+        hydro = extras.links.get(name)
+        if hydro is not None:
+            _merge_hydro(body, hydro, name, R, p, b, root, source, extras.source)
+        pending = []
+        for joint in children[name]:
+            axis = _check_joint(joint, source, extras.fixed_joints)
+            R_o, p_o = _pose(joint.origin)
+            if axis is None:
+                pending.append((joint.child, b, R @ R_o, p + R @ p_o, depth + 1, None))
+            else:
+                pending.append((joint.child, None, np.eye(3), np.zeros(3), depth + 1,
+                                (joint, b, R @ R_o, p + R @ p_o, axis)))
+        stack.extend(reversed(pending))
+    if extras.vehicle_hydro is not None:
+        _merge_hydro(bodies[0], extras.vehicle_hydro, root, np.eye(3), np.zeros(3), 0, root, source, extras.source)
+    return _assemble(bodies, axes, frames, extras, robot.name, source)
+
+
+def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.ndarray, b: int, root: str,
+                 source: str, extras_source: str | None) -> None:
+    """Add a link's hydrodynamics (link frame) to the body that carries it (pose ``(R, p)`` in the body)."""
+    body.added_mass = body.added_mass + _to_body(hydro.added_mass, R, p)
+    body.fluid_mass += hydro.fluid_mass
+    body.fluid_moment = body.fluid_moment + hydro.fluid_mass * (p + R @ hydro.center)
+    if hydro.cylinder is not None:
+        where = f"links.{link}.cylinder"
+        if b == 0:
+            raise UvmsInputError(f"link {link!r} is part of the vehicle (the root link {root!r} or fixed to it): "
+                                 "give the vehicle's drag under vehicle.drag", extras_source, where)
+        if body.cylinder is not None:
+            raise UvmsInputError(f"link {link!r} is fixed to link {body.cylinder_link!r}, which already has a drag "
+                                 "cylinder: one cylinder per moving body", extras_source, where)
+        C, o, radius, length, cd = hydro.cylinder
+        body.cylinder = (R @ C, p + R @ o, radius, length, cd)
+        body.cylinder_link = link
+
+
+def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str) -> Model:
+    """The :class:`Model` of the bodies (in tree order), their joints' axes and the frames."""
+    nb = len(bodies)
+    n = nb - 1
+    mass = np.zeros(nb)
+    com = np.zeros((nb, 3))
+    inertia_com = np.zeros((nb, 3, 3))
+    cob = np.zeros((nb, 3))
+    for i, body in enumerate(bodies):
+        mass[i], com[i], inertia_com[i] = _mass_properties(body.inertia)
+        if body.fluid_mass > 0.0:
+            cob[i] = body.fluid_moment / body.fluid_mass
+    carried = mass.copy()                      # mass of each body and everything it carries
+    for i in range(nb - 1, 0, -1):
+        carried[bodies[i].parent] += carried[i]
+    for i in range(1, nb):
+        if carried[i] <= 0.0:
+            body = bodies[i]
+            raise UvmsInputError(f"expected mass > 0 on link {body.link!r} (moved by joint {body.joint.name!r}) "
+                                 "or on the links it carries, found none: a joint must move some mass", source,
+                                 f"link {body.link!r}")
+    joints = [b.joint for b in bodies[1:]]
+    joint_axis = np.array(axes).reshape(n, 3)
+    limits = np.tile([-np.inf, np.inf, np.inf, np.inf], (n, 1))
+    damping, friction = np.zeros(n), np.zeros(n)
+    speed = np.full(n, np.nan)
+    for k, joint in enumerate(joints):
+        lim = joint.limit
+        if lim is not None:
+            if joint.type != "continuous":          # a continuous joint has no position limits
+                limits[k, 0] = -np.inf if lim.lower is None else float(lim.lower)
+                limits[k, 1] = np.inf if lim.upper is None else float(lim.upper)
+            if lim.effort is not None and float(lim.effort) > 0.0:
+                limits[k, 2] = float(lim.effort)
+            if lim.velocity is not None and float(lim.velocity) > 0.0:
+                limits[k, 3] = float(lim.velocity)
+        dyn = joint.dynamics
+        if dyn is not None:
+            damping[k] = float(dyn.damping or 0.0)
+            friction[k] = float(dyn.friction or 0.0)
+        for key, value in extras.joints.get(joint.name, {}).items():
+            {"damping": damping, "friction": friction, "friction_speed": speed}[key][k] = value
+        where = f"joint {joint.name!r}"
+        if damping[k] < 0.0 or friction[k] < 0.0:
+            raise UvmsInputError(f"expected damping and friction >= 0, found {damping[k]:g} and {friction[k]:g}",
+                                 source, where)
+    speed[np.isnan(speed)] = DEFAULT_FRICTION_SPEED
+    for name in extras.joints:
+        if name not in [j.name for j in joints]:
+            raise UvmsInputError(f"names joint {name!r}, which is not a moving joint of the URDF {source}",
+                                 extras.source, f"joints.{name}")
+
+    cyl_R = np.tile(np.eye(3), (n, 1, 1))
+    cyl_o = np.zeros((n, 3))
+    radius, length, cd = np.zeros(n), np.zeros(n), np.zeros(n)
+    for i, body in enumerate(bodies[1:]):
+        if body.cylinder is not None:
+            cyl_R[i], cyl_o[i], radius[i], length[i], cd[i] = body.cylinder
+    frame_list = [Frame(name, b, R, p) for name, b, R, p, _ in frames]
+    if any(f.name == END_EFFECTOR for f in frame_list):
+        raise UvmsInputError(f"a link may not be named {END_EFFECTOR!r} (the name of the end-effector frame)",
+                             source, f"link {END_EFFECTOR!r}")
+    if extras.end_effector is not None:
+        ee = next((f for f in frame_list if f.name == extras.end_effector), None)
+        if ee is None:
+            raise UvmsInputError(f"names link {extras.end_effector!r}, which the URDF {source} does not have",
+                                 extras.source, "end_effector")
+    else:   # the deepest link, the first one in depth-first order on a tie
+        deepest = max(range(len(frames)), key=lambda k: (frames[k][4], -k))
+        ee = frame_list[deepest]
+    frame_list.append(Frame(END_EFFECTOR, ee.body, ee.rotation, ee.position))
+    return Model(
+        name=extras.name or robot_name or Path(source).stem,
+        source=extras.source or source,
+        body_names=tuple(b.link for b in bodies),
+        mass=mass, com=com, inertia_com=inertia_com,
+        added_mass=np.array([b.added_mass for b in bodies]),
+        buoyancy_mass=np.array([b.fluid_mass for b in bodies]), cob=cob,
+        vehicle_drag_area=np.array(extras.vehicle_drag_area),
+        vehicle_drag_coefficient=np.array(extras.vehicle_drag_coefficient),
+        vehicle_rotational_drag_side=extras.vehicle_rotational_drag_side,
+        vehicle_rotational_drag_coefficient=extras.vehicle_rotational_drag_coefficient,
+        vehicle_box=np.array(extras.vehicle_box),
+        link_radius=radius, link_length=length, link_drag_coefficient=cd,
+        joint_rotation=np.array([b.R_joint for b in bodies[1:]]).reshape(n, 3, 3),
+        joint_position=np.array([b.p_joint for b in bodies[1:]]).reshape(n, 3),
+        theta_offset=np.zeros(n),
+        ee_rotation=ee.rotation, ee_position=ee.position,
+        density=extras.density, gravity=np.array(extras.gravity), current=np.array(extras.current),
+        fluid_acceleration=np.array(extras.fluid_acceleration), thrusters=tuple(extras.thrusters),
+        joint_names=tuple(j.name for j in joints),
+        joint_parent=np.array([b.parent for b in bodies[1:]], dtype=np.int64),
+        joint_type=tuple(j.type for j in joints),
+        joint_axis=joint_axis, joint_damping=damping, joint_friction=friction, joint_friction_speed=speed,
+        joint_limits=limits, link_cylinder_rotation=cyl_R, link_cylinder_origin=cyl_o, ee_body=ee.body,
+        frames=tuple(frame_list),
+    )
+
+
+def _warn_missing_meshes(robot, base: Path, source: str) -> None:
+    """Warn (never fail) about visual or collision mesh files that do not exist: the dynamics does not use them.
+    ``package://`` and ``file://`` names are looked up relative to the URDF's folder and its parents."""
+    missing: list[str] = []
+    for link in robot.links:
+        for item in list(link.visuals or []) + list(link.collisions or []):
+            mesh = getattr(getattr(item, "geometry", None), "mesh", None)
+            if mesh is None or not mesh.filename:
+                continue
+            name = mesh.filename
+            if name.startswith("file://"):
+                candidates = [Path(name[len("file://"):])]
+            elif name.startswith("package://"):
+                rest = name[len("package://"):]
+                tail = rest.split("/", 1)[1] if "/" in rest else rest
+                candidates = [d / tail for d in [base, *base.parents]][:6] + \
+                             [d / rest for d in [base, *base.parents]][:6]
+            else:
+                candidates = [base / name]
+            if not any(c.exists() for c in candidates):
+                missing.append(name)
+    if missing:
+        warnings.warn(f"{source}: {len(missing)} mesh file(s) not found (not needed for the dynamics), e.g. "
+                      f"{missing[0]}", stacklevel=3)
