@@ -50,6 +50,9 @@ from uvms.sim.scenario import RunName, Scenario, resolve_scenario_path, scenario
 _SWEEPS = files("uvms") / "sweeps"
 
 FORMAT_VERSION = 1
+MAX_RUNS = 1_000_000
+"""Most runs in one sweep (grid points x ``runs`` x controllers), checked before any run is built: at the
+paper's 1.6 s per run this is about 18 CPU-days; split a larger study into several sweeps."""
 """Version of the ``runs.csv`` / ``sweep.json`` layout; part of the sweep hash."""
 
 _SEGMENT = r"[A-Za-z_][A-Za-z0-9_-]*(?:\[\d+\])*"
@@ -441,6 +444,7 @@ def sweep_from_data(data: Any, *, source: str | None = None, base_dir: str | os.
     if spec.name is None:
         name = re.sub(r"[^A-Za-z0-9._+-]", "_", default_name).lstrip("._+-") or "sweep"
         spec = spec.model_copy(update={"name": name})
+    _check_size(spec, source)
     if spec.runs > 1 and not any(d.random for d in spec.parameters.values()):
         raise UvmsInputError(f"expected runs: 1 when no parameter is random (all {spec.runs} draws would be the "
                              "same)", source, "runs")
@@ -467,6 +471,10 @@ def sweep_from_data(data: Any, *, source: str | None = None, base_dir: str | os.
         base_data = read_yaml(base_path)
     except UvmsInputError as exc:
         raise UvmsInputError(f"{exc.source}: {exc.message}", source, "base") from None
+    if not isinstance(base_data, dict):  # name the path and the kind, never the content of whatever file it is
+        found = "an empty file" if base_data is None else f"a YAML {_kind(base_data)}"
+        raise UvmsInputError(f"{base_path}: expected a scenario file (a mapping of scenario fields), found {found}",
+                             source, "base")
     try:
         base = scenario_from_data(base_data, source=str(base_path), base_dir=base_path.parent,
                                   text=base_path.read_text(encoding="utf-8"), default_name=base_path.stem)
@@ -484,6 +492,36 @@ def sweep_from_data(data: Any, *, source: str | None = None, base_dir: str | os.
                   source=source, sha256=digest, text=text)
     _check_first_runs(sweep)
     return sweep
+
+
+def run_count(spec: SweepSpec) -> int:
+    """Runs the sweep ``spec`` makes: (product of the grid sizes) x ``runs`` x (number of controllers),
+    computed without building any of them."""
+    return math.prod(len(d.values) for d in spec.parameters.values() if not d.random) * spec.runs * len(
+        spec.controllers or (None,))
+
+
+def _check_size(spec: SweepSpec, source: str | None) -> None:
+    """Refuse a sweep of more than :data:`MAX_RUNS` runs, before anything is built."""
+    count = run_count(spec)
+    if count <= MAX_RUNS:
+        return
+    grid = [f"{show(key, 40)[1:-1]} {len(d.values)}" for key, d in spec.parameters.items() if not d.random and len(d.values) > 1]
+    factors = [*grid, *([f"runs {spec.runs}"] if spec.runs > 1 else []),
+               *([f"{len(spec.controllers)} controllers"] if spec.controllers and len(spec.controllers) > 1 else [])]
+    shown = " x ".join(factors[:6]) + (" x ..." if len(factors) > 6 else "")
+    field = "parameters" if grid else ("runs" if spec.runs > 1 else "controllers")
+    raise UvmsInputError(f"expected at most {MAX_RUNS:,} runs in one sweep, found {_count(count)} ({shown}); split "
+                         "the sweep", source, field)
+
+
+def _count(n: int) -> str:
+    """A run count, exactly up to 10^15, else as a power of ten."""
+    return f"{n:,}" if n < 10**15 else f"about 10^{len(str(n)) - 1}"
+
+
+def _kind(value: Any) -> str:
+    return {str: "string", list: "list", int: "number", float: "number", bool: "boolean"}.get(type(value), "value")
 
 
 def _check_first_runs(sweep: Sweep) -> None:
