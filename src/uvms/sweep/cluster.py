@@ -23,9 +23,11 @@ from __future__ import annotations
 
 import ipaddress
 import logging
+import multiprocessing
 import re
 import signal
 import threading
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -89,7 +91,14 @@ def _loop_without_sigint():
 def local_cluster(workers: int, *, preload: list[str] | None = None) -> Iterator[Any]:
     """A client on a new private local cluster (see the module docstring) of ``workers`` processes with one
     thread each, closed on the way out. A Ctrl-C while it starts raises ``KeyboardInterrupt`` after the parts
-    already started are shut down."""
+    already started are shut down. distributed's loggers are silent meanwhile: the sweep reports what matters
+    (runs lost with a worker, no worker left) itself, in one line."""
+    with quiet_logs(), _local_cluster(workers, preload) as client:
+        yield client
+
+
+@contextmanager
+def _local_cluster(workers: int, preload: list[str] | None) -> Iterator[Any]:
     from distributed import Client, Nanny
     from distributed.deploy.spec import SpecCluster
     from distributed.security import Security
@@ -114,7 +123,8 @@ def local_cluster(workers: int, *, preload: list[str] | None = None) -> Iterator
             await super()._start()
 
     runner = None
-    cluster = client = None
+    client = None
+    before = {child.pid for child in multiprocessing.active_children()}
     try:
         with quiet_logs():
             runner = _loop_without_sigint()
@@ -124,12 +134,50 @@ def local_cluster(workers: int, *, preload: list[str] | None = None) -> Iterator
             client = Client(cluster, security=security, set_as_default=False)
         yield client
     finally:
-        if client is not None:
-            close_quietly(client.close, timeout=10)
-        for each in started:
-            close_quietly(each.close, timeout=20)
-        if runner is not None:
-            close_quietly(runner.stop)
+        with _sigint_blocked():  # a second Ctrl-C must not cut the shutdown short (it is raised afterwards)
+            if runner is not None:  # the tasks of a start cut short report their errors when collected: drop them
+                runner.loop.asyncio_loop.set_exception_handler(lambda loop, context: None)
+            if client is not None:
+                close_quietly(client.close, timeout=10)
+            for each in started:
+                close_quietly(each.close, timeout=20)
+                # a start cut short leaves the cluster "closing" for ever: forget it, or distributed's exit
+                # handler waits 10 s for it
+                SpecCluster._instances.discard(each)
+            if runner is not None:
+                close_quietly(runner.stop)
+            _kill_new_children(before)
+
+
+def _kill_new_children(before: set[int], settle: float = 1.0, limit: float = 10.0) -> None:
+    """Kill the worker processes of an interrupted start that outlived the shutdown: child processes not in
+    ``before``, including one a nanny was still spawning (watched until none appears for ``settle`` s)."""
+    end = time.monotonic() + limit
+    quiet_since = time.monotonic()
+    while time.monotonic() < end and time.monotonic() - quiet_since < settle:
+        new = [child for child in multiprocessing.active_children() if child.pid not in before]
+        for child in new:
+            close_quietly(child.kill)
+            close_quietly(child.join, timeout=5)
+        if new:
+            quiet_since = time.monotonic()
+        time.sleep(0.05)
+
+
+@contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    """Hold a Ctrl-C back while the cluster shuts down; raise it (``KeyboardInterrupt``) afterwards."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda number, frame: caught.append(number))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt
 
 
 def security_from_files(ca_file: str | None, cert: str | None, key: str | None):
@@ -207,7 +255,14 @@ def check_scheduler(address: str, *, secured: bool, insecure: bool = False) -> s
 def external_client(address: str, security=None, *, connect_timeout: float = 20.0,
                     worker_wait: float = 120.0) -> Iterator[Any]:
     """A client on the scheduler at ``address`` (waiting up to ``connect_timeout`` seconds for it) with at
-    least one worker (waiting up to ``worker_wait`` seconds), closed on the way out."""
+    least one worker (waiting up to ``worker_wait`` seconds), closed on the way out; distributed's loggers
+    are silent meanwhile."""
+    with quiet_logs(), _external_client(address, security, connect_timeout, worker_wait) as client:
+        yield client
+
+
+@contextmanager
+def _external_client(address: str, security, connect_timeout: float, worker_wait: float) -> Iterator[Any]:
     from distributed import Client
 
     try:

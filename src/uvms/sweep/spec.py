@@ -55,6 +55,8 @@ MAX_RUNS = 1_000_000
 paper's 1.6 s per run this is about 18 CPU-days; split a larger study into several sweeps."""
 """Version of the ``runs.csv`` / ``sweep.json`` layout; part of the sweep hash."""
 
+MAX_PATH = 200
+"""Longest parameter path (a key of ``parameters``)."""
 _SEGMENT = r"[A-Za-z_][A-Za-z0-9_-]*(?:\[\d+\])*"
 _PATH = re.compile(rf"{_SEGMENT}(?:\.{_SEGMENT})*")
 
@@ -281,6 +283,9 @@ class SweepSpec(Spec):
     def _paths(cls, parameters: dict[str, Distribution]) -> dict[str, Distribution]:
         keys = list(parameters)
         for key in keys:
+            if len(key) > MAX_PATH:
+                raise fail(f"expected a field path of at most {MAX_PATH} characters, found {len(key)}",
+                           show(key, 60)[1:-1])
             if not _PATH.fullmatch(key):
                 raise fail("expected a dotted field path such as controller.parameters.hydro_scale or "
                            "inputs.joint_torques[0].torques", key)
