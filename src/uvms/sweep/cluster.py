@@ -104,7 +104,12 @@ def _local_cluster(workers: int, preload: list[str] | None) -> Iterator[Any]:
     from distributed.security import Security
     from distributed.system import MEMORY_LIMIT
 
-    security = Security.temporary()
+    try:
+        security = Security.temporary()
+    except ImportError:
+        raise UvmsInputError("the private local cluster needs the Python package 'cryptography' to make its TLS "
+                             "credentials: install it (pip install cryptography), or use --scheduler",
+                             path="--workers") from None
     from uvms.sweep._private import PrivateScheduler, PrivateWorker
 
     scheduler = {"cls": PrivateScheduler, "options": {

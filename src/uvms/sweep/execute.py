@@ -4,7 +4,10 @@ The client keeps a sliding window of submitted runs (two per worker thread): a k
 flight, and every finished run is appended to ``runs.csv`` (:mod:`uvms.sweep.store`) by the client alone.
 Workers run :func:`run_task`, a module-level function: each worker imports uvms once, and the numba kernels
 come from the on-disk cache (:mod:`uvms._cache`). A run that raises or diverges is a row with
-``status = failed`` and its one-line error; it does not stop the sweep.
+``status = failed`` and its one-line error; it does not stop the sweep. A run that the *cluster* failed (its
+worker died, the scheduler was lost) is not recorded at all, so that resuming runs it again; the sweep then
+ends with :class:`SweepStopped`, as it does when no worker is left for :data:`WORKER_WAIT` seconds. The local
+cluster is private (TLS, no HTTP port): :mod:`uvms.sweep.cluster`.
 """
 
 from __future__ import annotations

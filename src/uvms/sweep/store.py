@@ -5,6 +5,11 @@
 process. A process killed mid-write can leave at most a partial last line (no newline): :meth:`RunStore.open`
 cuts it off before anything else is written, so the file always parses and holds exactly one row per run_id.
 A lock (``.lock``, ``flock``) keeps a second ``uvms sweep`` out of a directory in use.
+
+A new directory is built under a temporary name and renamed into place (it never exists half made); the start-up
+debris an older uvms left when killed before ``sweep.json`` is completed; a refused directory is left exactly as
+it was (the checks come before the lock file is made or anything is cut). An ``OSError`` while writing names
+its file.
 """
 
 from __future__ import annotations
