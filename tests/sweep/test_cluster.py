@@ -281,3 +281,30 @@ def test_external_tls_scheduler_with_credential_files(tmp_path, capsys):
         for proc in (worker, scheduler):
             if proc is not None:
                 stop_group(proc)
+
+
+def test_without_cryptography_the_credentials_come_from_openssl(monkeypatch, tmp_path):
+    """The fallback for an installation without the ``cryptography`` package: a private cluster all the same."""
+    import shutil
+
+    from distributed import Client
+    from distributed.security import Security
+
+    if shutil.which("openssl") is None:
+        pytest.skip("no openssl command")
+
+    def unavailable(cls, **kwargs):
+        raise ImportError("no cryptography")
+
+    monkeypatch.setattr(Security, "temporary", classmethod(unavailable))
+    with local_cluster(1) as client:
+        marker = tmp_path / "ran"
+        assert client.submit(_mark, str(marker), pure=False).result(timeout=60) == "ran"
+        with pytest.raises(Exception):  # noqa: B017, PT011 - refused without the credentials
+            Client(client.scheduler.address.replace("tls://", "tcp://"), timeout=3, set_as_default=False)
+        with pytest.raises(Exception):  # noqa: B017, PT011
+            Client(client.scheduler.address, timeout=3, set_as_default=False)
+    monkeypatch.setattr("uvms.sweep.cluster.subprocess.run", lambda *a, **k: (_ for _ in ()).throw(OSError("none")))
+    with pytest.raises(UvmsInputError, match="needs the Python package 'cryptography' or the 'openssl' command"):
+        with local_cluster(1):
+            pass  # pragma: no cover

@@ -26,6 +26,7 @@ import logging
 import multiprocessing
 import re
 import signal
+import subprocess
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -101,15 +102,9 @@ def local_cluster(workers: int, *, preload: list[str] | None = None) -> Iterator
 def _local_cluster(workers: int, preload: list[str] | None) -> Iterator[Any]:
     from distributed import Client, Nanny
     from distributed.deploy.spec import SpecCluster
-    from distributed.security import Security
     from distributed.system import MEMORY_LIMIT
 
-    try:
-        security = Security.temporary()
-    except ImportError:
-        raise UvmsInputError("the private local cluster needs the Python package 'cryptography' to make its TLS "
-                             "credentials: install it (pip install cryptography), or use --scheduler",
-                             path="--workers") from None
+    security = temporary_security()
     from uvms.sweep._private import PrivateScheduler, PrivateWorker
 
     scheduler = {"cls": PrivateScheduler, "options": {
@@ -183,6 +178,38 @@ def _sigint_blocked() -> Iterator[None]:
         signal.signal(signal.SIGINT, previous)
     if caught:
         raise KeyboardInterrupt
+
+
+def temporary_security():
+    """TLS credentials for one private cluster, in memory only: a new 2048-bit RSA key and a self-signed
+    certificate that is its own authority, used by every role (client, scheduler, workers).
+
+    Made by ``distributed.security.Security.temporary`` (the Python package ``cryptography``), else by the
+    ``openssl`` command through a pipe (the key never touches the disk).
+
+    Raises:
+        UvmsInputError: neither is available (one line).
+    """
+    from distributed.security import Security
+
+    try:
+        return Security.temporary()
+    except ImportError:
+        pass
+    try:
+        made = subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "30", "-subj",
+                               "/CN=dask-internal", "-addext", "subjectAltName=DNS:dask-internal", "-addext",
+                               "basicConstraints=critical,CA:TRUE", "-keyout", "-", "-out", "-"],
+                              capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL)
+        pem = made.stdout
+        key = pem[pem.index("-----BEGIN PRIVATE KEY-----"):pem.index("-----END PRIVATE KEY-----") + 25] + "\n"
+        cert = pem[pem.index("-----BEGIN CERTIFICATE-----"):pem.index("-----END CERTIFICATE-----") + 25] + "\n"
+    except (OSError, ValueError, subprocess.SubprocessError):
+        raise UvmsInputError("the private local cluster needs the Python package 'cryptography' or the 'openssl' "
+                             "command to make its TLS credentials: install one (pip install cryptography), or use "
+                             "--scheduler", path="--workers") from None
+    return Security(require_encryption=True, tls_ca_file=cert, tls_client_key=key, tls_client_cert=cert,
+                    tls_scheduler_key=key, tls_scheduler_cert=cert, tls_worker_key=key, tls_worker_cert=cert)
 
 
 def security_from_files(ca_file: str | None, cert: str | None, key: str | None):
