@@ -91,3 +91,23 @@ def test_a_base_that_is_not_a_scenario_is_named_not_echoed(tmp_path, capsys, cas
     assert err.count("\n") == 1 and SECRET not in err and "12345" not in err
     assert f"{path}: base: {target}: expected a scenario file (a mapping of scenario fields), {found}" in err
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("field, value, message", [
+    ("parameters", {f"x.p{k}": 1.0 for k in range(100_000)}, "parameters: expected at most 1000 parameters"),
+    ("metrics", ["peak_body_error_xy_m"] * 100_000, "metrics: expected at most 1000 metrics"),
+    ("controllers", ["smc-ab"] * 100_000, "controllers: expected at most 1000 controllers"),
+    ("metrics", ["peak_body_error_xy_m", "rms_command_X", "peak_body_error_xy_m"],
+     "metrics[2]: expected each metric once, found 'peak_body_error_xy_m' twice"),
+    ("parameters", {"inputs.current": {"value": {"constant": [0, 0, 0]}}, "inputs.current.constant": [[0, 0, 0]]},
+     "parameters.inputs.current: overlaps parameter 'inputs.current.constant'"),
+    ("parameters", {"inputs.joint_torques[0].torques": [[0, 0, 0]], "inputs.joint_torques": {"value": []}},
+     "parameters.inputs.joint_torques: overlaps parameter 'inputs.joint_torques[0].torques'"),
+])
+def test_long_lists_are_refused_quickly_in_one_line(tmp_path, field, value, message):
+    data = {"name": "wide", "base": "paper_case3_controlled", field: value}
+    began = time.perf_counter()
+    with pytest.raises(UvmsInputError) as caught:
+        sweep_from_data(data, source="wide.yaml")
+    assert time.perf_counter() - began < 1.0  # a refusal bound: no quadratic scan of the list
+    assert message in str(caught.value) and len(str(caught.value)) < 600, str(caught.value)

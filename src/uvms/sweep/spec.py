@@ -38,6 +38,7 @@ from pydantic import (
     PlainValidator,
     ValidationError,
     field_validator,
+    model_validator,
 )
 from pydantic_core import PydanticCustomError
 
@@ -57,6 +58,8 @@ paper's 1.6 s per run this is about 18 CPU-days; split a larger study into sever
 
 MAX_PATH = 200
 """Longest parameter path (a key of ``parameters``)."""
+MAX_ENTRIES = 1000
+"""Most parameters, controllers or metrics in one sweep file."""
 _SEGMENT = r"[A-Za-z_][A-Za-z0-9_-]*(?:\[\d+\])*"
 _PATH = re.compile(rf"{_SEGMENT}(?:\.{_SEGMENT})*")
 
@@ -267,31 +270,42 @@ class SweepSpec(Spec):
     parameters: dict[str, Annotated[Distribution, PlainValidator(_distribution)]] = {}
     metrics: tuple[Annotated[str, AfterValidator(_metric)], ...] | None = None  # default: metrics.default_metrics
 
+    @model_validator(mode="before")
+    @classmethod
+    def _sizes(cls, data: Any) -> Any:
+        """Refuse over-long lists before any entry is validated."""
+        if isinstance(data, dict):
+            for field in ("parameters", "controllers", "metrics"):
+                value = data.get(field)
+                if isinstance(value, (dict, list, tuple)) and len(value) > MAX_ENTRIES:
+                    raise fail(f"expected at most {MAX_ENTRIES} {field}, found {len(value)}", field)
+        return data
+
     @field_validator("controllers")
     @classmethod
     def _controllers(cls, names: tuple[str, ...] | None) -> tuple[str, ...] | None:
         if names is not None:
             if not names:
                 raise fail("expected a non-empty list of controller names (or leave the key out)")
-            for k, name in enumerate(names):
-                if name in names[:k]:
-                    raise fail(f"expected each controller once, found {name!r} twice", k)
+            _once(names, "controller")
         return names
 
     @field_validator("parameters")
     @classmethod
     def _paths(cls, parameters: dict[str, Distribution]) -> dict[str, Distribution]:
-        keys = list(parameters)
-        for key in keys:
+        if len(parameters) > MAX_ENTRIES:
+            raise fail(f"expected at most {MAX_ENTRIES} parameters, found {len(parameters)}")
+        keys = set(parameters)
+        for key in parameters:
             if len(key) > MAX_PATH:
                 raise fail(f"expected a field path of at most {MAX_PATH} characters, found {len(key)}",
                            show(key, 60)[1:-1])
             if not _PATH.fullmatch(key):
                 raise fail("expected a dotted field path such as controller.parameters.hydro_scale or "
                            "inputs.joint_torques[0].torques", key)
-            for other in keys:
-                if other != key and other.startswith((key + ".", key + "[")):
-                    raise fail(f"overlaps parameter {other!r}: set one or the other", key)
+            for cut in (m.start() for m in re.finditer(r"[.\[]", key)):  # every shorter path on the way to key
+                if key[:cut] in keys:
+                    raise fail(f"overlaps parameter {show(key)}: set one or the other", key[:cut])
             d = parameters[key]
             for k, v in enumerate(d.values if not d.random else getattr(d, "choice", ())):
                 _jsonable(v, f"{key}[{k}]")
@@ -303,10 +317,19 @@ class SweepSpec(Spec):
         if names is not None:
             if not names:
                 raise fail("expected a non-empty list of metric names (or leave the key out for the default set)")
-            for k, name in enumerate(names):
-                if name in names[:k]:
-                    raise fail(f"expected each metric once, found {name!r} twice", k)
+            _once(names, "metric")
         return names
+
+
+def _once(names: tuple[str, ...], what: str) -> None:
+    """Refuse more than :data:`MAX_ENTRIES` names, or a name listed twice (in linear time)."""
+    if len(names) > MAX_ENTRIES:
+        raise fail(f"expected at most {MAX_ENTRIES} {what}s, found {len(names)}")
+    seen: set[str] = set()
+    for k, name in enumerate(names):
+        if name in seen:
+            raise fail(f"expected each {what} once, found {show(name)} twice", k)
+        seen.add(name)
 
 
 # ---------------------------------------------------------------------------------------------- sweep
