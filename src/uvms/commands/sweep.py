@@ -1,9 +1,12 @@
-"""``uvms sweep SWEEP [-o DIR] [--workers N] [--scheduler ADDRESS]``: run a parameter sweep in parallel.
+"""``uvms sweep SWEEP [-o DIR] [--workers N | --scheduler ADDRESS [--tls-ca-file F --tls-cert F --tls-key F]]``:
+run a parameter sweep in parallel.
 
 Each finished run is appended to ``DIR/runs.csv`` as it completes; rerunning the same command resumes (runs
-already recorded are skipped). At the end ``DIR/summary.csv`` is written and the 5/50/95 % quantiles of each
-metric are printed per controller. Ctrl-C stops cleanly (exit 130): the rows written so far stay, the workers
-are shut down, and the same command resumes. ``docs/sweeps.md`` documents the sweep file.
+already recorded are skipped, runs lost with a worker or the scheduler are run again). At the end
+``DIR/summary.csv`` is written and the 5/50/95 % quantiles of each metric are printed per controller. Ctrl-C
+stops cleanly (exit 130), also while the cluster starts: the rows written so far stay, the workers are shut
+down, and the same command resumes. A cluster that fails (no worker left, scheduler lost) stops the sweep with
+one line and exit code 1. ``docs/sweeps.md`` documents the sweep file and the cluster's security.
 """
 
 from __future__ import annotations
@@ -27,8 +30,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--workers", metavar="N", type=int, default=None,
                         help="local worker processes, one thread each (default: the number of CPUs; at most 4 per CPU)")
     parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                        help="use the Dask scheduler at ADDRESS (e.g. tcp://10.0.0.5:8786) and its workers "
-                             "instead of local ones")
+                        help="use the Dask scheduler at ADDRESS (e.g. tls://10.0.0.5:8786) and its workers "
+                             "instead of a private local cluster")
+    parser.add_argument("--tls-ca-file", metavar="FILE", default=None,
+                        help="with --scheduler: CA certificate (PEM) that signed the scheduler's certificate "
+                             "(default: the Dask configuration, distributed.comm.tls)")
+    parser.add_argument("--tls-cert", metavar="FILE", default=None,
+                        help="with --scheduler: this client's certificate (PEM)")
+    parser.add_argument("--tls-key", metavar="FILE", default=None,
+                        help="with --scheduler: this client's private key (PEM)")
+    parser.add_argument("--insecure", action="store_true",
+                        help="with --scheduler: accept plain tcp:// to another machine (no authentication, no "
+                             "encryption: anyone who reaches that scheduler runs code on its workers)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -37,12 +50,24 @@ def run(args: argparse.Namespace) -> int:
 
     from uvms.errors import UvmsInputError
     from uvms.output import check_destination
-    from uvms.sweep import load_sweep, summarize
+    from uvms.sweep.store import one_line
+    from uvms.sweep import SweepStopped, load_sweep, summarize
     from uvms.sweep import run as run_sweep
+    from uvms.sweep.cluster import check_scheduler, security_from_files
 
     if args.scheduler is not None and args.workers is not None:
         raise UvmsInputError("has no effect with --scheduler (the scheduler's workers run the sweep)",
                              path="--workers")
+    security, warning = None, None
+    if args.scheduler is None:
+        for option, value in (("--tls-ca-file", args.tls_ca_file), ("--tls-cert", args.tls_cert),
+                              ("--tls-key", args.tls_key), ("--insecure", args.insecure or None)):
+            if value is not None:
+                raise UvmsInputError("only applies with --scheduler (the local cluster makes its own credentials)",
+                                     path=option)
+    else:
+        security = security_from_files(args.tls_ca_file, args.tls_cert, args.tls_key)
+        warning = check_scheduler(args.scheduler, secured=security is not None, insecure=args.insecure)
     workers = args.workers if args.workers is not None else _cpu_count()
     sweep = load_sweep(args.sweep)
     out = Path(args.output) if args.output else Path("sweeps") / sweep.name
@@ -51,15 +76,23 @@ def run(args: argparse.Namespace) -> int:
                              "--output")
     check_destination(out, "--output", kind="folder")
 
+    if warning is not None:
+        print(f"uvms: warning: {warning}", file=sys.stderr)
     bar = _Progress(sweep.name, "scheduler " + args.scheduler if args.scheduler else f"{workers} local workers")
     start = time.perf_counter()
     try:
-        rows = run_sweep(sweep, out_dir=out, workers=workers, scheduler=args.scheduler, progress=bar)
+        rows = run_sweep(sweep, out_dir=out, workers=workers, scheduler=args.scheduler, security=security,
+                         insecure=args.insecure, progress=bar)
     except KeyboardInterrupt:
         bar.close()
         print(f"uvms: interrupted: {bar.done} of {bar.total} runs recorded in {out / 'runs.csv'}; run the same "
               "command again to resume", file=sys.stderr)
         return 130
+    except SweepStopped as exc:
+        bar.close()
+        print(f"uvms: error: {exc.reason}; {exc.done} of {exc.total} runs recorded in {out / 'runs.csv'}; run the "
+              "same command again to resume", file=sys.stderr)
+        return 1
     finally:
         bar.close()
     wall = time.perf_counter() - start
@@ -76,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
     if failed:
         example = rows.loc[rows["status"] != "ok"].iloc[0]
         print(f"uvms: warning: {failed} of {len(rows)} runs failed (status=failed in runs.csv), e.g. "
-              f"{example['run_id']}: {example['error']}", file=sys.stderr)
+              f"{example['run_id']}: {one_line(example['error'], 300)}", file=sys.stderr)
     ok = rows[rows["status"] == "ok"]
     for metric in sweep.metrics:
         if len(ok) and ok[metric].isna().all():

@@ -4,35 +4,39 @@ The client keeps a sliding window of submitted runs (two per worker thread): a k
 flight, and every finished run is appended to ``runs.csv`` (:mod:`uvms.sweep.store`) by the client alone.
 Workers run :func:`run_task`, a module-level function: each worker imports uvms once, and the numba kernels
 come from the on-disk cache (:mod:`uvms._cache`). A run that raises or diverges is a row with
-``status = failed`` and its one-line error; it does not stop the sweep.
+``status = failed`` and its one-line error; it does not stop the sweep. A run that the *cluster* failed (its
+worker died, the scheduler was lost) is not recorded at all, so that resuming runs it again; the sweep then
+ends with :class:`SweepStopped`, as it does when no worker is left for :data:`WORKER_WAIT` seconds. The local
+cluster is private (TLS, no HTTP port): :mod:`uvms.sweep.cluster`.
 """
 
 from __future__ import annotations
 
 import io
-import logging
 import os
-import re
-import shutil
 import time
 import uuid
 from collections.abc import Callable, Iterator
-from contextlib import ExitStack, contextmanager
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
 from uvms.errors import UvmsInputError
+from uvms.model.schema import show
+from uvms.sweep import cluster
 from uvms.sweep.spec import Sweep, SweepRun, load_sweep
-from uvms.sweep.store import RunStore, columns, format_line, parameter_columns, run_cells
+from uvms.sweep.store import RunStore, columns, format_line, one_line, parameter_columns, run_cells
 
 QUANTILES = (0.05, 0.5, 0.95)
-CONNECT_TIMEOUT = 20.0
-"""Seconds to wait for a scheduler to answer, and for it to have at least one worker."""
-WORKER_WAIT = 120.0
 WORKERS_PER_CPU = 4
 """Most local workers per CPU (``--workers``): more only queue for the same cores."""
-_ADDRESS = re.compile(r"(?:[a-z]+://)?(?:\[[0-9a-fA-F:.]+\]|[^\s/:\[\]]+):\d{1,5}")
-"""A Dask scheduler address: ``[protocol://]host:port``, an IPv6 host in brackets."""
+CONNECT_TIMEOUT = 20.0
+"""Seconds to wait for an external scheduler to answer."""
+WORKER_WAIT = 120.0
+"""Seconds to wait for a worker: before the first run on an external scheduler, and whenever none is left
+during a sweep (then :class:`SweepStopped`)."""
+POLL = 1.0
+"""Seconds between checks that the cluster still has workers while no run finishes."""
 
 
 def run_task(task: dict[str, Any]) -> dict[str, Any]:
@@ -53,6 +57,10 @@ def run_task(task: dict[str, Any]) -> dict[str, Any]:
         outcome = {"status": "failed", "error": _describe(exc), "metrics": {}}
     outcome["wall_time_s"] = time.perf_counter() - start
     return outcome
+
+
+_TASK = run_task
+"""The function the workers run (tests replace it to simulate a cluster failure)."""
 
 
 def _describe(exc: Exception) -> str:
@@ -96,8 +104,28 @@ def warm_up(tasks: list[dict[str, Any]]) -> int:
     return count
 
 
+class SweepStopped(RuntimeError):
+    """The sweep stopped, or ended, with runs left unrecorded because its Dask cluster failed: no worker left
+    (after :data:`WORKER_WAIT` seconds), the scheduler lost, or runs lost with their worker.
+    Nothing of a run's own making raises it: those runs are ``failed`` rows. Rerunning the same sweep into the
+    same folder runs what is missing.
+
+    Attributes:
+        reason: what happened (one line).
+        done: runs recorded (this invocation and earlier ones).
+        total: runs in the sweep.
+    """
+
+    def __init__(self, reason: str, done: int = 0, total: int = 0) -> None:
+        super().__init__(reason, done, total)
+        self.reason, self.done, self.total = reason, done, total
+
+    def __str__(self) -> str:
+        return f"{self.reason}; {self.done} of {self.total} runs recorded"
+
+
 def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.PathLike[str] | None = None,
-        workers: int = 2, scheduler: str | None = None,
+        workers: int = 2, scheduler: str | None = None, security: Any = None, insecure: bool = False,
         progress: Callable[[int, int], None] | None = None):
     """Run every run of a sweep in parallel and return one row per run (a pandas DataFrame, in run order).
 
@@ -105,23 +133,31 @@ def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.Path
         sweep_or_path: a :class:`Sweep`, or a sweep file path or bundled name.
         out_dir: record into this directory (``runs.csv`` ...; see :mod:`uvms.sweep.store`), skipping the
             runs already recorded there (resume); ``None``: keep the rows in memory only.
-        workers: local worker processes (one thread each) when no ``scheduler`` is given.
-        scheduler: address of a running Dask scheduler (``tcp://host:8786``) to use instead.
+        workers: local worker processes (one thread each) when no ``scheduler`` is given; the local cluster is
+            private (TLS with credentials made for it, no HTTP port: :mod:`uvms.sweep.cluster`).
+        scheduler: address of a running Dask scheduler (``tls://host:8786``) to use instead.
+        security: ``distributed.security.Security`` for ``scheduler`` (default: the Dask configuration's
+            ``distributed.comm.tls.*``); see :func:`uvms.sweep.cluster.security_from_files`.
+        insecure: accept a plain ``tcp://`` scheduler on another machine.
         progress: ``progress(done, total)`` after each recorded run (and once at the start).
 
     Raises:
         UvmsInputError: invalid sweep, output directory or scheduler (one line).
+        SweepStopped: the cluster failed (no worker left, scheduler lost, runs lost with their worker): the
+            rows recorded so far stay, and the same call resumes.
+        OSError: a file of the output directory could not be written (its name in ``filename``).
         KeyboardInterrupt: passed on after the current row is written and the workers are shut down.
     """
+    from uvms.sweep.cluster import check_scheduler
+
     sweep = sweep_or_path if isinstance(sweep_or_path, Sweep) else load_sweep(sweep_or_path)
     most = WORKERS_PER_CPU * (os.cpu_count() or 1)
     if scheduler is None and (isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= most):
-        raise UvmsInputError(f"expected 1 to {most} local workers ({WORKERS_PER_CPU} per CPU), found {workers!r}",
-                             path="--workers")
-    if scheduler is not None and not _ADDRESS.fullmatch(scheduler):
-        raise UvmsInputError("expected a Dask scheduler address such as tcp://10.0.0.5:8786", scheduler, "--scheduler")
+        raise UvmsInputError(f"expected 1 to {most} local workers ({WORKERS_PER_CPU} per CPU), found "
+                             f"{show(workers)}", path="--workers")
+    if scheduler is not None:
+        check_scheduler(scheduler, secured=security is not None, insecure=insecure)
     header = columns(sweep)
-    fresh = out_dir is not None and not Path(out_dir).exists()
     store = RunStore.open(out_dir, sweep) if out_dir is not None else None
     try:
         rows: dict[str, list[str]] = dict(store.done) if store is not None else {}
@@ -131,24 +167,34 @@ def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.Path
         done = len(planned & set(rows))
         if progress is not None:
             progress(done, total)
+        lost: dict[str, str] = {}
         if todo:
-            with ExitStack() as connection:
-                try:
-                    client = connection.enter_context(_connect(workers, scheduler))
-                except UvmsInputError:
-                    if store is not None and fresh:         # nothing was run: leave no folder behind
-                        store.close()
-                        store = None
-                        shutil.rmtree(out_dir, ignore_errors=True)
-                    raise
-                for run, outcome in _execute(client, sweep, todo):
-                    cells = run_cells(sweep, run, outcome)
-                    if store is not None:
-                        store.append(cells)
-                    rows[run.run_id] = cells
-                    done += 1
-                    if progress is not None:
-                        progress(done, total)
+            try:
+                with ExitStack() as connection:
+                    try:
+                        client = connection.enter_context(_connect(workers, scheduler, security))
+                    except UvmsInputError:
+                        if store is not None and store.created:  # nothing was run: leave no folder behind
+                            store.close()
+                            store.remove()
+                            store = None
+                        raise
+                    for run, outcome in _execute(client, sweep, todo, lost):
+                        cells = run_cells(sweep, run, outcome)
+                        if store is not None:
+                            store.append(cells)
+                        rows[run.run_id] = cells
+                        done += 1
+                        if progress is not None:
+                            progress(done, total)
+            except SweepStopped as exc:
+                exc.done, exc.total = done, total
+                raise
+        if lost:
+            run_id, error = next(iter(lost.items()))
+            raise SweepStopped(f"{len(lost)} run{'s' if len(lost) > 1 else ''} not recorded: the Dask cluster failed "
+                               f"while running {'them' if len(lost) > 1 else 'it'} (e.g. {run_id}: "
+                               f"{one_line(error, 200)})", done, total)
         frame = _frame(header, [rows[run.run_id] for run in sweep.runs if run.run_id in rows])
         frame.attrs.update(metrics=list(sweep.metrics), parameter_columns=[c for c, _, _ in parameter_columns(sweep)])
         if store is not None:
@@ -208,12 +254,20 @@ def _tasks(sweep: Sweep, runs: list[SweepRun]) -> Iterator[tuple[SweepRun, dict[
                     "metrics": list(sweep.metrics)}
 
 
-def _execute(client, sweep: Sweep, runs: list[SweepRun]) -> Iterator[tuple[SweepRun, dict[str, Any]]]:
-    """Submit the runs in a sliding window and yield ``(run, outcome)`` as they finish."""
-    from distributed import as_completed
+def _execute(client, sweep: Sweep, runs: list[SweepRun], lost: dict[str, str]
+             ) -> Iterator[tuple[SweepRun, dict[str, Any]]]:
+    """Submit the runs in a sliding window and yield ``(run, outcome)`` as they finish.
 
-    threads = max(1, sum(client.nthreads().values()))
-    window = 2 * threads
+    An outcome is what :func:`run_task` returned: the run's own result, ``ok`` or ``failed``, and final. A
+    future that raises instead (``KilledWorker``, a lost connection, cancelled) says nothing about the run:
+    it goes into ``lost`` (run_id -> error), is not yielded, and runs again on resume.
+
+    Raises:
+        SweepStopped: no worker for :data:`WORKER_WAIT` seconds, or the scheduler lost.
+    """
+    from distributed import wait
+
+    threads = _threads(client)
     first = {}
     for run, task in _tasks(sweep, runs):
         first.setdefault(run.controller, task)
@@ -225,30 +279,51 @@ def _execute(client, sweep: Sweep, runs: list[SweepRun]) -> Iterator[tuple[Sweep
     pending = _tasks(sweep, runs)
     by_future: dict[Any, SweepRun] = {}
 
-    def submit() -> Any | None:
-        item = next(pending, None)
-        if item is None:
-            return None
-        run, task = item
-        future = client.submit(run_task, task, key=f"uvms-sweep-{token}-{run.run_id}", pure=False, retries=0)
-        by_future[future] = run
-        return future
-
-    futures = [f for f in (submit() for _ in range(window)) if f is not None]
-    completed = as_completed(futures, loop=client.loop)
-    try:
-        for future in completed:
-            run = by_future.pop(future)
+    def fill() -> None:
+        while len(by_future) < 2 * max(1, threads):
+            item = next(pending, None)
+            if item is None:
+                return
+            run, task = item
             try:
-                outcome = future.result()
-            except Exception as exc:  # noqa: BLE001 - a worker died or the task could not run
-                outcome = {"status": "failed", "error": f"worker failure: {type(exc).__name__}: {exc}",
-                           "metrics": {}, "wall_time_s": 0.0}
-            future.release()
-            nxt = submit()
-            if nxt is not None:
-                completed.add(nxt)
-            yield run, outcome
+                future = client.submit(_TASK, task, key=f"uvms-sweep-{token}-{run.run_id}", pure=False, retries=0)
+            except Exception as exc:  # noqa: BLE001 - a client that lost its scheduler
+                raise SweepStopped(_lost_scheduler(exc)) from None
+            by_future[future] = run
+
+    fill()
+    idle_since: float | None = None
+    try:
+        while by_future:
+            try:
+                with client.as_current():
+                    finished, _ = wait(list(by_future), timeout=POLL, return_when="FIRST_COMPLETED")
+            except TimeoutError:
+                threads = _threads(client)
+                if threads:
+                    idle_since = None
+                    fill()
+                elif idle_since is None:
+                    idle_since = time.monotonic()
+                elif time.monotonic() - idle_since > WORKER_WAIT:
+                    raise SweepStopped(f"no Dask worker left (waited {WORKER_WAIT:g} s)") from None
+                continue
+            except Exception as exc:  # noqa: BLE001 - the client lost its scheduler
+                raise SweepStopped(_lost_scheduler(exc)) from None
+            idle_since = None
+            for future in finished:
+                run = by_future.pop(future)
+                try:
+                    outcome = future.result()
+                except Exception as exc:  # noqa: BLE001 - the cluster failed, not the run: not final
+                    lost[run.run_id] = f"{type(exc).__name__}: {exc}"
+                    outcome = None
+                future.release()
+                if outcome is not None:
+                    yield run, outcome
+            if client.status != "running":
+                raise SweepStopped(_lost_scheduler(None))
+            fill()
     finally:
         if by_future:
             try:
@@ -257,48 +332,26 @@ def _execute(client, sweep: Sweep, runs: list[SweepRun]) -> Iterator[tuple[Sweep
                 pass
 
 
-@contextmanager
-def _connect(workers: int, scheduler: str | None):
-    """A Dask client: on a new local cluster of ``workers`` processes, or on the scheduler at ``scheduler``."""
-    from distributed import Client, LocalCluster
+def _threads(client) -> int:
+    """Worker threads the scheduler has now."""
+    try:
+        return sum(client.nthreads().values())
+    except Exception as exc:  # noqa: BLE001 - the client lost its scheduler
+        raise SweepStopped(_lost_scheduler(exc)) from None
 
+
+def _lost_scheduler(exc: BaseException | None) -> str:
+    why = f": {one_line(f'{type(exc).__name__}: {exc}', 200)}" if exc is not None else ""
+    return f"lost the connection to the Dask scheduler{why}"
+
+
+def _connect(workers: int, scheduler: str | None, security: Any = None):
+    """A Dask client (a context manager): on a new private local cluster of ``workers`` processes, or on the
+    scheduler at ``scheduler``."""
     if scheduler is not None:
-        try:
-            client = Client(scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise UvmsInputError(f"cannot connect to the Dask scheduler: {' '.join(str(exc).split())}", scheduler,
-                                 "--scheduler") from None
-        try:
-            try:
-                client.wait_for_workers(1, timeout=WORKER_WAIT)
-            except (TimeoutError, OSError):
-                raise UvmsInputError(f"the Dask scheduler has no workers (waited {WORKER_WAIT:g} s)", scheduler,
-                                     "--scheduler") from None
-            yield client
-        finally:
-            _quietly(client.close, timeout=10)
-        return
-
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.CRITICAL, scheduler_port=0, preload=[__name__])
-    client = Client(cluster, set_as_default=False)
-    try:
-        yield client
-    finally:
-        _quietly(client.close, timeout=10)
-        _quietly(cluster.close, timeout=20)
-
-
-def _quietly(close: Callable[..., Any], **kwargs: Any) -> None:
-    """Shut something down, ignoring errors and the logging noise of a cluster going away."""
-    level = logging.getLogger("distributed").level
-    logging.getLogger("distributed").setLevel(logging.CRITICAL)
-    try:
-        close(**kwargs)
-    except BaseException:  # noqa: BLE001 - a second Ctrl-C or a dead worker must not hide the first cause
-        pass
-    finally:
-        logging.getLogger("distributed").setLevel(level)
+        return cluster.external_client(scheduler, security, connect_timeout=CONNECT_TIMEOUT,
+                                       worker_wait=WORKER_WAIT)
+    return cluster.local_cluster(workers, preload=[__name__])
 
 
 def runs_table(out_dir: str | os.PathLike[str]):

@@ -38,6 +38,7 @@ from pydantic import (
     PlainValidator,
     ValidationError,
     field_validator,
+    model_validator,
 )
 from pydantic_core import PydanticCustomError
 
@@ -50,8 +51,15 @@ from uvms.sim.scenario import RunName, Scenario, resolve_scenario_path, scenario
 _SWEEPS = files("uvms") / "sweeps"
 
 FORMAT_VERSION = 1
+MAX_RUNS = 1_000_000
+"""Most runs in one sweep (grid points x ``runs`` x controllers), checked before any run is built: at the
+paper's 1.6 s per run this is about 18 CPU-days; split a larger study into several sweeps."""
 """Version of the ``runs.csv`` / ``sweep.json`` layout; part of the sweep hash."""
 
+MAX_PATH = 200
+"""Longest parameter path (a key of ``parameters``)."""
+MAX_ENTRIES = 1000
+"""Most parameters, controllers or metrics in one sweep file."""
 _SEGMENT = r"[A-Za-z_][A-Za-z0-9_-]*(?:\[\d+\])*"
 _PATH = re.compile(rf"{_SEGMENT}(?:\.{_SEGMENT})*")
 
@@ -262,28 +270,42 @@ class SweepSpec(Spec):
     parameters: dict[str, Annotated[Distribution, PlainValidator(_distribution)]] = {}
     metrics: tuple[Annotated[str, AfterValidator(_metric)], ...] | None = None  # default: metrics.default_metrics
 
+    @model_validator(mode="before")
+    @classmethod
+    def _sizes(cls, data: Any) -> Any:
+        """Refuse over-long lists before any entry is validated."""
+        if isinstance(data, dict):
+            for field in ("parameters", "controllers", "metrics"):
+                value = data.get(field)
+                if isinstance(value, (dict, list, tuple)) and len(value) > MAX_ENTRIES:
+                    raise fail(f"expected at most {MAX_ENTRIES} {field}, found {len(value)}", field)
+        return data
+
     @field_validator("controllers")
     @classmethod
     def _controllers(cls, names: tuple[str, ...] | None) -> tuple[str, ...] | None:
         if names is not None:
             if not names:
                 raise fail("expected a non-empty list of controller names (or leave the key out)")
-            for k, name in enumerate(names):
-                if name in names[:k]:
-                    raise fail(f"expected each controller once, found {name!r} twice", k)
+            _once(names, "controller")
         return names
 
     @field_validator("parameters")
     @classmethod
     def _paths(cls, parameters: dict[str, Distribution]) -> dict[str, Distribution]:
-        keys = list(parameters)
-        for key in keys:
+        if len(parameters) > MAX_ENTRIES:
+            raise fail(f"expected at most {MAX_ENTRIES} parameters, found {len(parameters)}")
+        keys = set(parameters)
+        for key in parameters:
+            if len(key) > MAX_PATH:
+                raise fail(f"expected a field path of at most {MAX_PATH} characters, found {len(key)}",
+                           show(key, 60)[1:-1])
             if not _PATH.fullmatch(key):
                 raise fail("expected a dotted field path such as controller.parameters.hydro_scale or "
                            "inputs.joint_torques[0].torques", key)
-            for other in keys:
-                if other != key and other.startswith((key + ".", key + "[")):
-                    raise fail(f"overlaps parameter {other!r}: set one or the other", key)
+            for cut in (m.start() for m in re.finditer(r"[.\[]", key)):  # every shorter path on the way to key
+                if key[:cut] in keys:
+                    raise fail(f"overlaps parameter {show(key)}: set one or the other", key[:cut])
             d = parameters[key]
             for k, v in enumerate(d.values if not d.random else getattr(d, "choice", ())):
                 _jsonable(v, f"{key}[{k}]")
@@ -295,10 +317,19 @@ class SweepSpec(Spec):
         if names is not None:
             if not names:
                 raise fail("expected a non-empty list of metric names (or leave the key out for the default set)")
-            for k, name in enumerate(names):
-                if name in names[:k]:
-                    raise fail(f"expected each metric once, found {name!r} twice", k)
+            _once(names, "metric")
         return names
+
+
+def _once(names: tuple[str, ...], what: str) -> None:
+    """Refuse more than :data:`MAX_ENTRIES` names, or a name listed twice (in linear time)."""
+    if len(names) > MAX_ENTRIES:
+        raise fail(f"expected at most {MAX_ENTRIES} {what}s, found {len(names)}")
+    seen: set[str] = set()
+    for k, name in enumerate(names):
+        if name in seen:
+            raise fail(f"expected each {what} once, found {show(name)} twice", k)
+        seen.add(name)
 
 
 # ---------------------------------------------------------------------------------------------- sweep
@@ -441,6 +472,7 @@ def sweep_from_data(data: Any, *, source: str | None = None, base_dir: str | os.
     if spec.name is None:
         name = re.sub(r"[^A-Za-z0-9._+-]", "_", default_name).lstrip("._+-") or "sweep"
         spec = spec.model_copy(update={"name": name})
+    _check_size(spec, source)
     if spec.runs > 1 and not any(d.random for d in spec.parameters.values()):
         raise UvmsInputError(f"expected runs: 1 when no parameter is random (all {spec.runs} draws would be the "
                              "same)", source, "runs")
@@ -467,6 +499,10 @@ def sweep_from_data(data: Any, *, source: str | None = None, base_dir: str | os.
         base_data = read_yaml(base_path)
     except UvmsInputError as exc:
         raise UvmsInputError(f"{exc.source}: {exc.message}", source, "base") from None
+    if not isinstance(base_data, dict):  # name the path and the kind, never the content of whatever file it is
+        found = "an empty file" if base_data is None else f"a YAML {_kind(base_data)}"
+        raise UvmsInputError(f"{base_path}: expected a scenario file (a mapping of scenario fields), found {found}",
+                             source, "base")
     try:
         base = scenario_from_data(base_data, source=str(base_path), base_dir=base_path.parent,
                                   text=base_path.read_text(encoding="utf-8"), default_name=base_path.stem)
@@ -484,6 +520,36 @@ def sweep_from_data(data: Any, *, source: str | None = None, base_dir: str | os.
                   source=source, sha256=digest, text=text)
     _check_first_runs(sweep)
     return sweep
+
+
+def run_count(spec: SweepSpec) -> int:
+    """Runs the sweep ``spec`` makes: (product of the grid sizes) x ``runs`` x (number of controllers),
+    computed without building any of them."""
+    return math.prod(len(d.values) for d in spec.parameters.values() if not d.random) * spec.runs * len(
+        spec.controllers or (None,))
+
+
+def _check_size(spec: SweepSpec, source: str | None) -> None:
+    """Refuse a sweep of more than :data:`MAX_RUNS` runs, before anything is built."""
+    count = run_count(spec)
+    if count <= MAX_RUNS:
+        return
+    grid = [f"{show(key, 40)[1:-1]} {len(d.values)}" for key, d in spec.parameters.items() if not d.random and len(d.values) > 1]
+    factors = [*grid, *([f"runs {spec.runs}"] if spec.runs > 1 else []),
+               *([f"{len(spec.controllers)} controllers"] if spec.controllers and len(spec.controllers) > 1 else [])]
+    shown = " x ".join(factors[:6]) + (" x ..." if len(factors) > 6 else "")
+    field = "parameters" if grid else ("runs" if spec.runs > 1 else "controllers")
+    raise UvmsInputError(f"expected at most {MAX_RUNS:,} runs in one sweep, found {_count(count)} ({shown}); split "
+                         "the sweep", source, field)
+
+
+def _count(n: int) -> str:
+    """A run count, exactly up to 10^15, else as a power of ten."""
+    return f"{n:,}" if n < 10**15 else f"about 10^{len(str(n)) - 1}"
+
+
+def _kind(value: Any) -> str:
+    return {str: "string", list: "list", int: "number", float: "number", bool: "boolean"}.get(type(value), "value")
 
 
 def _check_first_runs(sweep: Sweep) -> None:
