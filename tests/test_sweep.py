@@ -408,3 +408,15 @@ def test_a_base_that_is_a_folder_names_the_sweep_file_and_field(tmp_path, capsys
     err = capsys.readouterr().err
     assert err.startswith(f"uvms: error: {path}: base: ") and err.endswith("expected a YAML file, found a directory\n")
     assert err.count("\n") == 1 and not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("field, value, expected", [("runs", "true", "runs: expected a whole number, found True"),
+                                                    ("runs", "2.5", "runs: expected a whole number, found 2.5"),
+                                                    ("seed", "false", "seed: expected a whole number, found False")])
+def test_counts_are_whole_numbers_not_booleans(tmp_path, field, value, expected):
+    from uvms.sweep.spec import load_sweep
+
+    path = tmp_path / "sweep.yaml"
+    path.write_text(f"base: paper_case3_controlled\n{field}: {value}\n")
+    with pytest.raises(UvmsInputError, match=expected):
+        load_sweep(path)

@@ -61,8 +61,10 @@ def _describe(error: ErrorDetails, schema: type[BaseModel] | None) -> str:
         op, bound = {"greater_than": (">", "gt"), "greater_than_equal": (">=", "ge"), "less_than": ("<", "lt"),
                      "less_than_equal": ("<=", "le")}[kind]
         return f"expected a number {op} {ctx[bound]:g}, found {found}"
-    if kind in ("float_type", "float_parsing", "int_type", "int_parsing"):
+    if kind in ("float_type", "float_parsing"):
         return f"expected a number, found {found}"
+    if kind in ("int_type", "int_parsing", "int_from_float"):
+        return f"expected a whole number, found {found}"
     if kind == "finite_number":
         return f"expected a finite number, found {found}"
     if kind == "literal_error":

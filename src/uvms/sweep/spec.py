@@ -36,6 +36,7 @@ from pydantic import (
     ConfigDict,
     Field,
     PlainValidator,
+    Strict,
     ValidationError,
     field_validator,
     model_validator,
@@ -45,6 +46,7 @@ from pydantic_core import PydanticCustomError
 from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
 from uvms.model.load import read_yaml, validation_input_error
+from uvms.safe_yaml import read_yaml_mapping
 from uvms.model.schema import fail, show
 from uvms.sim.scenario import RunName, Scenario, resolve_scenario_path, scenario_from_data
 
@@ -264,8 +266,8 @@ class SweepSpec(Spec):
     name: RunName | None = None                    # default: the file name without .yaml
     description: str | None = None
     base: Annotated[str, Field(min_length=1)]      # a scenario: bundled name or path (relative: to this file)
-    runs: Annotated[int, Field(ge=1, le=1_000_000)] = 1  # random draws per grid point
-    seed: Annotated[int, Field(ge=0)] = 0
+    runs: Annotated[int, Strict(), Field(ge=1, le=1_000_000)] = 1  # random draws per grid point (true is no count)
+    seed: Annotated[int, Strict(), Field(ge=0)] = 0
     controllers: tuple[Annotated[str, Field(min_length=1)], ...] | None = None  # default: the base's controller
     parameters: dict[str, Annotated[Distribution, PlainValidator(_distribution)]] = {}
     metrics: tuple[Annotated[str, AfterValidator(_metric)], ...] | None = None  # default: metrics.default_metrics
@@ -450,7 +452,7 @@ def load_sweep(name_or_path: str | os.PathLike[str]) -> Sweep:
             base scenario rejects, unknown controller or metric (one-line message).
     """
     path = resolve_sweep_path(name_or_path)
-    data = read_yaml(path)
+    data = read_yaml_mapping(path, "sweep fields")
     text = path.read_text(encoding="utf-8")
     return sweep_from_data(data, source=str(path), base_dir=path.parent, text=text, default_name=path.stem)
 
