@@ -196,6 +196,7 @@ def test_paper_layouts(paper):
 def test_no_thrusters_and_unlimited_thrusters(vehicle):
     none = model_report(vehicle.replace(thrusters=()))
     assert none.allocation_rank == 0 and none.missing_axes == AXES and not np.any(none.thrust_forward_N)
+    assert "no thrusters (ideal actuation" in none.table()
     free = model_report(vehicle.replace(thrusters=(ideal("x", (0, 0, 0), (1, 0, 0), math.inf),)))
     assert axis(free, "surge") == (math.inf, math.inf)
     assert free.to_dict()["thrust"]["forward_N_or_Nm"]["surge"] is None
@@ -267,3 +268,21 @@ def test_report_is_frozen_and_json_ready(paper):
     data = json.loads(json.dumps(report.to_dict(), allow_nan=False))
     assert data["q"] == {"joint1": 0.1, "joint2": 0.2, "joint3": 0.3}
     assert data["total_mass_kg"] == 35.0 and data["trim"]["roll_rad"] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_asymmetric_limits_from_a_datasheet_table():
+    """A table thruster has its own reverse limit (``min_thrust``): a surge pair at y = -/+0.1 with [-30, 40] N
+    gives +80 / -60 N in surge and, with X = 0 (T1 = -T2), yaw 0.1 T1 - 0.1 T2 = 0.2 T1 limited by
+    T1 <= 40 and -T1 >= -30: +6 / -6 N m."""
+    from types import SimpleNamespace
+
+    from uvms.model.report import available_thrust, thruster_limits
+    from uvms.thrusters.allocation import allocation_matrix
+
+    table = SimpleNamespace(parameters=SimpleNamespace(max_thrust=40.0, min_thrust=-30.0))
+    assert thruster_limits(table) == (-30.0, 40.0)
+    assert thruster_limits(SimpleNamespace(parameters=IdealParameters(max_thrust=12.0))) == (-12.0, 12.0)
+    Lambda = allocation_matrix(np.array([[0, -0.1, 0], [0, 0.1, 0]]), np.array([[1.0, 0, 0], [1.0, 0, 0]]))
+    forward, reverse = available_thrust(Lambda, np.array([-30.0, -30.0]), np.array([40.0, 40.0]))
+    assert forward[0] == pytest.approx(80.0) and reverse[0] == pytest.approx(60.0)
+    assert forward[5] == pytest.approx(6.0) and reverse[5] == pytest.approx(6.0)

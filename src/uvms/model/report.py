@@ -143,9 +143,6 @@ class ModelReport:
         def vec(v, unit):
             return "(" + ", ".join(f"{x + 0.0:.6g}" for x in v) + f") {unit}"
 
-        def amount(x):
-            return "unlimited" if math.isinf(x) else f"{x:.4g}"
-
         at = ", ".join(f"{n}={v:.6g}" for n, v in zip(self.joint_names, self.q)) or "no joints"
         lines = [f"statics at rest (vehicle level, {at}; vehicle frame x fwd, y stbd, z down):",
                  f"  total mass:           {self.mass_kg:.6g} kg",
@@ -161,17 +158,28 @@ class ModelReport:
         else:
             lines.append(f"  settles to:           roll {math.degrees(self.trim_roll_rad) + 0.0:.4g} deg, "
                          f"pitch {math.degrees(self.trim_pitch_rad) + 0.0:.4g} deg (ZYX Euler, yaw 0)")
-        lines.append(f"thrust available ({self.n_thrusters} thrusters; {self.thrust_method}):")
-        for axis, fwd, rev, unit in zip(AXES, self.thrust_forward_N, self.thrust_reverse_N, AXIS_UNITS):
-            lines.append(f"  {axis:<6} +{amount(fwd)} / -{amount(rev)} {unit}")
-        missing = ", ".join(self.missing_axes)
-        lines.append(f"  layout rank {self.allocation_rank} of 6" + (f"; cannot push in: {missing}" if missing
-                                                                      else ": pushes in all six directions"))
+        if self.n_thrusters == 0:
+            lines.append("thrust available: no thrusters (ideal actuation: a commanded body wrench is applied as "
+                         "it is)")
+        else:
+            lines.extend(self._thrust_lines())
         lines.append("effective mass/inertia 1/(M^-1)_jj (rigid body + added mass, joints free):")
         lines.append("  " + ", ".join(f"{a} {v:.4g} {u}" for a, v, u in
                                       zip(AXES, self.effective_inertia, INERTIA_UNITS)))
         lines.extend(f"warning: {w}" for w in self.warnings)
         return "\n".join(lines)
+
+    def _thrust_lines(self) -> list[str]:
+        def amount(x):
+            return "unlimited" if math.isinf(x) else f"{x:.4g}"
+
+        lines = [f"thrust available ({self.n_thrusters} thrusters; {self.thrust_method}):"]
+        for axis, fwd, rev, unit in zip(AXES, self.thrust_forward_N, self.thrust_reverse_N, AXIS_UNITS):
+            lines.append(f"  {axis:<6} +{amount(fwd)} / -{amount(rev)} {unit}")
+        missing = ", ".join(self.missing_axes)
+        lines.append(f"  layout rank {self.allocation_rank} of 6" + (f"; cannot push in: {missing}" if missing
+                                                                      else ": pushes in all six directions"))
+        return lines
 
     def to_dict(self) -> dict[str, Any]:
         """The report as plain JSON-able values; units in the key names, ``null`` for "none" or "no limit"."""
