@@ -131,6 +131,10 @@ def test_no_buoyancy_no_stable_attitude(vehicle):
     report = model_report(vehicle.replace(buoyancy_mass=np.zeros(1)))
     assert report.trim_roll_rad is None and "no displaced fluid" in report.trim_note
     assert np.all(np.isnan(report.center_of_buoyancy_m)) and report.net_buoyancy_N == pytest.approx(-32 * G)
+    import json
+
+    data = json.loads(json.dumps(report.to_dict(), allow_nan=False))      # no NaN in the JSON: null instead
+    assert data["center_of_buoyancy_m"] == [None, None, None] and data["trim"] is None
 
 
 # ------------------------------------------------------------------------------------------------- thrust
