@@ -16,7 +16,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("model", metavar="FILE_OR_NAME",
                         help="model YAML file, URDF (.urdf) or xacro (.xacro) file, or a bundled model name (paper)")
     parser.add_argument("--q", metavar="VALUE", type=float, nargs="+", default=None,
-                        help="joint values [rad or m], one per joint in the model's joint order (default: all zero); give it after FILE_OR_NAME")
+                        help="joint values [rad or m], one per joint in the model's joint order (default: all zero); "
+                             "give it after FILE_OR_NAME")
     parser.add_argument("--json", action="store_true",
                         help="print the report as JSON (units in the key names) instead of text")
 
