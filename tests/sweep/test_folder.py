@@ -290,10 +290,9 @@ def test_a_full_disk_while_creating_the_folder_is_one_line_naming_the_file(tmp_p
 
 def test_a_full_disk_while_writing_the_summary_names_it(tmp_path, monkeypatch):
     sweep = load_sweep(write_sweep(tmp_path))
-    monkeypatch.setattr("uvms.sweep.store.atomic_write_text",
-                        lambda path, text: (_ for _ in ()).throw(OSError(errno.ENOSPC, "No space left on device")))
-    with RunStore.__new__(RunStore) as store:
-        store.directory, store._fd, store._lock_fd = tmp_path, -1, -1
+    with RunStore.open(tmp_path / "out", sweep) as store:
+        monkeypatch.setattr("uvms.sweep.store.atomic_write_text", lambda path, text: (_ for _ in ()).throw(
+            OSError(errno.ENOSPC, "No space left on device")))
         with pytest.raises(OSError) as caught:
             store.write_summary(pd.DataFrame({"a": [1]}))
-    assert caught.value.filename == str(tmp_path / "summary.csv") and sweep is not None
+    assert caught.value.filename == str(tmp_path / "out" / "summary.csv")

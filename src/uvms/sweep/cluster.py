@@ -144,9 +144,10 @@ def _local_cluster(workers: int, preload: list[str] | None) -> Iterator[Any]:
                 # a start cut short leaves the cluster "closing" for ever: forget it, or distributed's exit
                 # handler waits 10 s for it
                 SpecCluster._instances.discard(each)
+            clean = client is not None and all(str(each.status) == "Status.closed" for each in started)
             if runner is not None:
                 close_quietly(runner.stop)
-            _kill_new_children(before)
+            _kill_new_children(before, settle=0.0 if clean else 1.0)
 
 
 def _kill_new_children(before: set[int], settle: float = 1.0, limit: float = 10.0) -> None:
@@ -154,13 +155,15 @@ def _kill_new_children(before: set[int], settle: float = 1.0, limit: float = 10.
     ``before``, including one a nanny was still spawning (watched until none appears for ``settle`` s)."""
     end = time.monotonic() + limit
     quiet_since = time.monotonic()
-    while time.monotonic() < end and time.monotonic() - quiet_since < settle:
+    while True:
         new = [child for child in multiprocessing.active_children() if child.pid not in before]
         for child in new:
             close_quietly(child.kill)
             close_quietly(child.join, timeout=5)
         if new:
             quiet_since = time.monotonic()
+        if time.monotonic() >= end or time.monotonic() - quiet_since >= settle:
+            return
         time.sleep(0.05)
 
 
