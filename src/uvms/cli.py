@@ -1,6 +1,7 @@
 """Command-line interface: ``uvms <command> ...`` (subcommands in :mod:`uvms.commands`).
 
-The only place that prints errors and chooses exit codes: 0 success, 2 invalid input (one line, no traceback),
+The only place that prints errors and chooses exit codes: 0 success, 1 a sweep stopped by its cluster (lost
+workers or scheduler; it resumes), 2 invalid input (one line, no traceback),
 3 simulation diverged.
 """
 

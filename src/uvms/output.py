@@ -22,7 +22,8 @@ MARKER = ".uvms-output.json"
 """File in every result folder uvms writes: ``{"written_by": "uvms <version>", "kind": ..., "files": [...]}``."""
 
 
-def _allowed(bits: int) -> int:
+def allowed_permissions(bits: int) -> int:
+    """``bits`` less what the user's umask takes away (the permissions a new file would get)."""
     mask = os.umask(0)
     os.umask(mask)
     return bits & ~mask
@@ -42,7 +43,7 @@ def naming(path) -> Iterator[None]:
 
 def publish(tmp, path) -> None:
     """Rename a finished temporary file to ``path`` with the usual permissions."""
-    os.chmod(tmp, _allowed(0o666))
+    os.chmod(tmp, allowed_permissions(0o666))
     os.replace(tmp, path)
 
 
@@ -151,7 +152,7 @@ def replace_directory(tmp: Path, final: Path, *, kind: str, option: str = "--out
     tmp, final = Path(tmp), Path(final)
     with naming(final):
         _write_marker(tmp, kind)
-        os.chmod(tmp, _allowed(0o777))
+        os.chmod(tmp, allowed_permissions(0o777))
         try:
             check_replaceable(final, option)
         except UvmsInputError as exc:

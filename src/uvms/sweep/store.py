@@ -32,7 +32,7 @@ from typing import Any
 
 from uvms.errors import UvmsInputError
 from uvms.model.schema import show
-from uvms.output import atomic_write_text
+from uvms.output import allowed_permissions, atomic_write_text
 
 RUNS_CSV = "runs.csv"
 SWEEP_JSON = "sweep.json"
@@ -194,7 +194,7 @@ class RunStore:
         try:
             lock_fd, _ = _lock(tmp)
             _populate(tmp, sweep, header)
-            os.chmod(tmp, _allowed(0o777))
+            os.chmod(tmp, allowed_permissions(0o777))
             try:
                 os.rename(tmp, directory)
             except OSError as exc:
@@ -261,12 +261,6 @@ def _names(path: Path) -> Iterator[None]:
         if exc.filename is None:
             raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
         raise
-
-
-def _allowed(bits: int) -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return bits & ~mask
 
 
 def _fsync_directory(path: Path) -> None:
