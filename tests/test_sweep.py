@@ -29,6 +29,8 @@ from uvms.sweep import load_sweep, run, summarize, sweep_from_data
 from uvms.sweep.spec import parameter_sets, set_path
 from uvms.sweep.store import RunStore, columns
 
+from .sweep.helpers import stop_group as _stop_group
+
 CASE3 = yaml.safe_load((files("uvms") / "scenarios" / "paper_case3_controlled.yaml").read_text())
 BIN = Path(sys.executable).parent
 DURATION = 0.3
@@ -256,18 +258,6 @@ def test_failing_run_is_a_row_not_fatal(tmp_path, warm_kernels):
 def _start(args: list[str], cwd: Path) -> subprocess.Popen:
     return subprocess.Popen(args, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
-
-
-def _stop_group(proc: subprocess.Popen) -> None:
-    """Kill whatever is left of ``proc``'s session (its process group) and reap ``proc``."""
-    try:
-        os.killpg(proc.pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        pass
-    try:
-        proc.communicate(timeout=20)
-    except subprocess.TimeoutExpired:  # pragma: no cover
-        pass
 
 
 def _alive_in_group(pgid: int) -> list[str]:

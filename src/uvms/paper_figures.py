@@ -214,7 +214,8 @@ def case_animation(released, controlled, model, path, *, fixed=None, thrusters=N
     import plotly.graph_objects as go
 
     from uvms.view.animate import replay
-    from uvms.view.plotly_html import moving_points, moving_traces, scene_layout, world_traces, write_html
+    from uvms.view.plotly_html import (add_player, moving_points, moving_traces, scene_layout, world_traces,
+                                       write_html)
     from uvms.view.scene import equal_ranges
 
     runs = (("case 2: released, control off", released, ()),          # no control, no thrusters drawn
@@ -270,21 +271,7 @@ def case_animation(released, controlled, model, path, *, fixed=None, thrusters=N
     layout["scene"], layout["scene2"] = left, right
     layout["annotations"] = [dict(text=rp.title, x=0.3625 + 0.425 * i, y=0.97, xref="paper", yref="paper",
                                   showarrow=False, font=dict(size=12)) for i, rp in enumerate(replays)]
-    ms = 1000.0 / replays[0].fps
-    play = dict(label="\u25b6 play", method="animate",
-                args=[None, dict(frame=dict(duration=ms, redraw=True), transition=dict(duration=0),
-                                 fromcurrent=True, mode="immediate")])
-    pause = dict(label="\u275a\u275a pause", method="animate",
-                 args=[[None], dict(frame=dict(duration=0, redraw=False), transition=dict(duration=0),
-                                    mode="immediate")])
-    layout["updatemenus"] = [dict(type="buttons", direction="left", x=0.02, y=0.06, xanchor="left", yanchor="top",
-                                  pad=dict(r=8, t=8), showactive=False, buttons=[play, pause])]
-    layout["sliders"] = [dict(
-        active=0, x=0.2, y=0.06, len=0.78, xanchor="left", yanchor="top", pad=dict(t=8, b=4),
-        currentvalue=dict(prefix="t = ", suffix=" s", visible=True, xanchor="left"), transition=dict(duration=0),
-        steps=[dict(label=f"{t:.2f}", method="animate",
-                    args=[[name], dict(frame=dict(duration=0, redraw=True), transition=dict(duration=0),
-                                       mode="immediate")]) for t, name in zip(times, names)])]
+    add_player(layout, fps=replays[0].fps, times=times, names=names)
     layout["legend"].update(y=0.12)
     layout["margin"] = dict(l=0, r=0, t=40, b=70)
     fig.update_layout(**layout)

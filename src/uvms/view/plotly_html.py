@@ -179,6 +179,26 @@ def pose_figure(scene: Scene, snap: Snapshot, *, title: str):
     return fig
 
 
+def add_player(layout: dict, *, fps: float, times, names: list[str], start: int = 0, decimals: int = 2) -> None:
+    """Play/pause buttons and a time slider over the frames ``names`` (at ``times`` [s]) in a plotly layout."""
+    ms = 1000.0 / fps
+    play = dict(label="\u25b6 play", method="animate",
+                args=[None, dict(frame=dict(duration=ms, redraw=True), transition=dict(duration=0),
+                                 fromcurrent=True, mode="immediate")])
+    pause = dict(label="\u275a\u275a pause", method="animate",
+                 args=[[None], dict(frame=dict(duration=0, redraw=False), transition=dict(duration=0),
+                                    mode="immediate")])
+    layout["updatemenus"] = [dict(type="buttons", direction="left", x=0.02, y=0.06, xanchor="left", yanchor="top",
+                                  pad=dict(r=8, t=8), showactive=False, buttons=[play, pause])]
+    layout["sliders"] = [dict(
+        active=start, x=0.2, y=0.06, len=0.78, xanchor="left", yanchor="top", pad=dict(t=8, b=4),
+        currentvalue=dict(prefix="t = ", suffix=" s", visible=True, xanchor="left"),
+        transition=dict(duration=0),
+        steps=[dict(label=f"{t:.{decimals}f}", method="animate",
+                    args=[[name], dict(frame=dict(duration=0, redraw=True), transition=dict(duration=0),
+                                       mode="immediate")]) for t, name in zip(times, names)])]
+
+
 def animation_figure(scene: Scene, snaps: list[Snapshot], times: np.ndarray, *, title: str, fps: float,
                      target: Snapshot | None = None, vehicle_path: np.ndarray | None = None,
                      ee_path: np.ndarray | None = None, start: int = 0):
@@ -225,22 +245,7 @@ def animation_figure(scene: Scene, snaps: list[Snapshot], times: np.ndarray, *, 
     points = np.vstack([s.points() for s in snaps] + [1.15 * scene.world_axis_length * np.eye(3)])
     fig = go.Figure(data=static + first, frames=frames)
     layout = scene_layout(equal_ranges(points), title)
-    ms = 1000.0 / fps
-    play = dict(label="\u25b6 play", method="animate",
-                args=[None, dict(frame=dict(duration=ms, redraw=True), transition=dict(duration=0),
-                                 fromcurrent=True, mode="immediate")])
-    pause = dict(label="\u275a\u275a pause", method="animate",
-                 args=[[None], dict(frame=dict(duration=0, redraw=False), transition=dict(duration=0),
-                                    mode="immediate")])
-    layout["updatemenus"] = [dict(type="buttons", direction="left", x=0.02, y=0.06, xanchor="left", yanchor="top",
-                                  pad=dict(r=8, t=8), showactive=False, buttons=[play, pause])]
-    layout["sliders"] = [dict(
-        active=start, x=0.2, y=0.06, len=0.78, xanchor="left", yanchor="top", pad=dict(t=8, b=4),
-        currentvalue=dict(prefix="t = ", suffix=" s", visible=True, xanchor="left"),
-        transition=dict(duration=0),
-        steps=[dict(label=f"{t:.{decimals}f}", method="animate",
-                    args=[[name], dict(frame=dict(duration=0, redraw=True), transition=dict(duration=0),
-                                       mode="immediate")]) for t, name in zip(times, names)])]
+    add_player(layout, fps=fps, times=times, names=names, start=start, decimals=decimals)
     layout["legend"].update(y=0.12)
     layout["margin"] = dict(l=0, r=0, t=40, b=70)
     fig.update_layout(**layout)
