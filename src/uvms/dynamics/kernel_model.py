@@ -51,6 +51,9 @@ class KernelModel(NamedTuple):
                                 #   rotation (the cylinder along its x), row 3 its origin in the body [m], row 4
                                 #   [0.5 rho Cd (2 r) per unit length [kg/m^2], length L [m], 1.0 if the cylinder is
                                 #   not along the body x axis from the origin else 0.0]
+    fossen: np.ndarray          # (nb, 13, 6) Fossen damping of each body: rows 0-5 D_l, rows 6-11 D_q
+                                #   ([angular; linear] entries), row 12 [point (3) [m], 1.0 if the body has any
+                                #   Fossen damping else 0.0, 0, 0] (docs/models.md, "Fossen damping")
     ee_body: int                # the body the end effector is fixed in
     ee_E: np.ndarray            # (3, 3) body-to-end-effector coordinate rotation
     ee_r: np.ndarray            # (3,) end-effector origin in body coordinates [m]
@@ -129,11 +132,24 @@ def kernel_model_from(model) -> KernelModel:
         vehicle_drag_linear=0.5 * rho * model.vehicle_drag_area * model.vehicle_drag_coefficient,
         vehicle_drag_angular=np.full(3, rho * model.vehicle_rotational_drag_coefficient * a**5 / 32.0),
         cylinder=cylinder,
+        fossen=_fossen_rows(model),
         ee_body=int(model.ee_body),
         ee_E=np.array(model.ee_rotation, dtype=float).T.copy(),
         ee_r=np.array(model.ee_position, dtype=float),
         gravity=np.array(model.gravity, dtype=float),
     )
+
+
+def _fossen_rows(model) -> np.ndarray:
+    """:attr:`KernelModel.fossen` of a model: ``D_l``, ``D_q`` and ``[point, flag, 0, 0]`` per body."""
+    nb = model.n_bodies
+    out = np.zeros((nb, 13, 6))
+    out[:, 0:6] = model.damping_linear
+    out[:, 6:12] = model.damping_quadratic
+    out[:, 12, 0:3] = model.damping_point
+    out[:, 12, 3] = [1.0 if np.any(model.damping_linear[i]) or np.any(model.damping_quadratic[i]) else 0.0
+                     for i in range(nb)]
+    return out
 
 
 def make_workspace(n_bodies: int) -> Workspace:

@@ -79,8 +79,8 @@ def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None,
     zero3 = np.zeros(3)
 
     def forces(i, af):
-        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i], i == 0,
-                          km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], ws.v[i], ws.vc[i], af, ws.g[i], f,
+        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i],
+                          km.fossen[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], ws.v[i], ws.vc[i], af, ws.g[i], f,
                           scratch)
 
     for i in range(nb):

@@ -54,6 +54,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
     inertia = np.array([inertia_com(b.mass, b.com, b.inertia) for b in bodies])
     added_mass = np.array([_added_mass(b, env.density) for b in bodies])
     check_joint_axis_inertia(mass, com, inertia, added_mass, source=source, where=lambda j: f"arm.links[{j}].inertia")
+    damping = [(b.damping.matrices(), b.damping.about) if b.damping is not None else None for b in bodies]
     return Model(
         name=spec.name,
         source=source,
@@ -82,6 +83,9 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         current=np.array(env.current),
         fluid_acceleration=np.array(env.fluid_acceleration),
         thrusters=tuple(thruster_from_spec(t, i) for i, t in enumerate(spec.thrusters)),
+        damping_linear=np.array([d[0][0] if d else np.zeros((6, 6)) for d in damping]),
+        damping_quadratic=np.array([d[0][1] if d else np.zeros((6, 6)) for d in damping]),
+        damping_point=np.array([d[1] if d else (0.0, 0.0, 0.0) for d in damping]).reshape(-1, 3),
     )
 
 
@@ -117,6 +121,8 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
         if link.buoyancy is not None:
             hydro.fluid_mass = link.buoyancy.fluid_mass(rho)
             hydro.center = np.array(link.buoyancy.center)
+        if link.damping is not None:
+            hydro.damping = (*link.damping.matrices(), np.array(link.damping.about))
         links[name] = hydro
     vehicle = spec.vehicle
     vehicle_hydro = LinkHydro()
@@ -125,6 +131,8 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
     if vehicle.buoyancy is not None:
         vehicle_hydro.fluid_mass = vehicle.buoyancy.fluid_mass(rho)
         vehicle_hydro.center = np.array(vehicle.buoyancy.center)
+    if vehicle.damping is not None:
+        vehicle_hydro.damping = (*vehicle.damping.matrices(), np.array(vehicle.damping.about))
     drag = vehicle.drag
     extras = VehicleExtras(
         name=spec.name, density=rho, gravity=env.gravity, current=env.current,

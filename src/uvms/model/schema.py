@@ -249,6 +249,75 @@ class VehicleDragSpec(Spec):
     rotational: RotationalDragSpec
 
 
+def _six_or_matrix(value: Any) -> Any:
+    """6 values (a diagonal) or a 6x6 matrix, as a 6x6 tuple of rows."""
+    if isinstance(value, (list, tuple)) and len(value) == 6 and all(_is_number(x) for x in value):
+        return tuple(tuple(float(value[i]) if i == j else 0.0 for j in range(6)) for i in range(6))
+    if isinstance(value, (list, tuple)) and len(value) == 6 and all(
+            isinstance(row, (list, tuple)) and len(row) == 6 and all(_is_number(x) for x in row) for row in value):
+        return tuple(tuple(float(x) for x in row) for row in value)
+    raise fail(f"expected 6 finite numbers (a diagonal) or a 6x6 matrix, found {show(value)}")
+
+
+SixOrMatrix = Annotated[tuple[tuple[float, ...], ...], BeforeValidator(_six_or_matrix)]
+
+
+class FossenDampingSpec(Spec):
+    """Fossen's linear and quadratic damping of a body (Fossen 2021, hydrodynamic damping):
+    ``f = -(D_l + D_q diag|nu_p|) nu_p`` with ``nu_p`` the velocity relative to the fluid of the point ``about``.
+
+    Either ``coefficients`` (SNAME names such as ``X_u``, ``X_u|u|``, ``N_r``; :mod:`uvms.hydro.fossen`), read
+    with ``convention`` (``derivative``: the printed value is the derivative, dissipative values negative;
+    ``magnitude``: the value is the matrix entry), or ``linear`` / ``quadratic`` given as matrix entries in
+    uvms's ``[angular; linear]`` order (6 diagonal values or a 6x6 matrix). Units: linear ``[N s/m]``,
+    ``[N m s/rad]`` (and mixed ``[N s]``, ``[N m s/m]``); quadratic ``[N s^2/m^2]``, ``[N m s^2/rad^2]``.
+    The symmetric part of each matrix must be positive semi-definite (dissipative).
+    """
+
+    about: Vec3 = ZERO3                           # point the coefficients hold about, body frame [m]
+    convention: Literal["derivative", "magnitude"] = "derivative"
+    coefficients: dict[Name, Number] | None = None
+    linear: SixOrMatrix | None = None
+    quadratic: SixOrMatrix | None = None
+
+    @model_validator(mode="after")
+    def _physical(self) -> FossenDampingSpec:
+        if self.coefficients is not None and (self.linear is not None or self.quadratic is not None):
+            raise fail("expected either 'coefficients' (SNAME names) or 'linear'/'quadratic' (matrices), "
+                       "found both")
+        if self.coefficients is None and self.linear is None and self.quadratic is None:
+            raise fail("expected 'coefficients' or 'linear'/'quadratic', found none")
+        D_l, D_q = self.matrices()
+        for name, D in (("linear", D_l), ("quadratic", D_q)):
+            sub = "coefficients" if self.coefficients is not None else name
+            eig = np.linalg.eigvalsh(0.5 * (D + D.T))
+            tol = RELATIVE_TOLERANCE * max(float(np.abs(D).max()), 1e-300)
+            if eig[0] < -tol:
+                raise fail(f"expected a dissipative {name} damping matrix (symmetric part positive "
+                           f"semi-definite), found eigenvalues [{', '.join(f'{e:.6g}' for e in eig)}]"
+                           + (" (SNAME derivatives of a dissipative body are negative; or give "
+                              "convention: magnitude)" if self.coefficients is not None else ""), sub)
+        return self
+
+    def matrices(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(D_l, D_q)``, 6x6 ``[angular; linear]`` matrix entries."""
+        from uvms.hydro.fossen import damping_matrices, sname_index
+
+        if self.coefficients is not None:
+            for name in self.coefficients:
+                try:
+                    sname_index(name)
+                except ValueError as exc:
+                    raise fail(str(exc), f"coefficients.{name}") from None
+            try:
+                return damping_matrices(self.coefficients, convention=self.convention)
+            except Exception as exc:  # a duplicate name (X_u|u| and X_|u|u)
+                raise fail(getattr(exc, "message", str(exc)), "coefficients") from None
+        zero = np.zeros((6, 6))
+        return (np.array(self.linear) if self.linear is not None else zero,
+                np.array(self.quadratic) if self.quadratic is not None else zero)
+
+
 class VehicleSpec(_BodySpec):
     """The vehicle (body 0; paper appendix, "URV Parameters")."""
 
@@ -257,6 +326,7 @@ class VehicleSpec(_BodySpec):
     added_mass: VehicleAddedMassSpec
     drag: VehicleDragSpec
     box: NonNegativeVec3                          # box dimensions [m]
+    damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping (added to ``drag``)
 
 
 class DHSpec(Spec):
@@ -285,6 +355,7 @@ class LinkSpec(_BodySpec):
     drag_coefficient: NonNegative                 # normal-flow Cd [-] (Eq. 6)
     buoyancy: BuoyancySpec
     added_mass: LinkAddedMass                     # or "from_geometry" (strip theory for the cylinder)
+    damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping (added to Eq. 6)
 
 
 class MountSpec(Spec):
@@ -420,6 +491,7 @@ class UrdfLinkSpec(Spec):
     added_mass: UrdfLinkAddedMass | None = None   # or "from_geometry" (strip theory for the cylinder)
     buoyancy: FluidVolumeSpec | None = None
     cylinder: LinkCylinderSpec | None = None
+    damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping, link frame
 
     @model_validator(mode="after")
     def _geometry(self) -> UrdfLinkSpec:
@@ -434,6 +506,7 @@ class UrdfVehicleSpec(Spec):
     added_mass: OriginAddedMassSpec | None = None
     buoyancy: FluidVolumeSpec | None = None
     drag: VehicleDragSpec | None = None
+    damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping, vehicle frame
     box: NonNegativeVec3 = ZERO3                  # box dimensions [m] (plots)
 
 

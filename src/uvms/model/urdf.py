@@ -135,6 +135,8 @@ class LinkHydro:
     center: np.ndarray = field(default_factory=lambda: np.zeros(3))
     cylinder: tuple[np.ndarray, np.ndarray, float, float, float] | None = None
     """``(rotation with x along the axis, origin, radius, length, drag coefficient)``, link frame."""
+    damping: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    """Fossen damping ``(D_l, D_q, point)``, link axes, the point in the link frame."""
 
 
 @dataclass
@@ -176,6 +178,8 @@ class _Body:
     fluid_moment: np.ndarray = field(default_factory=lambda: np.zeros(3))   # sum of m_f * centre
     cylinder: tuple | None = None
     cylinder_link: str | None = None
+    damping: tuple | None = None            # Fossen (D_l, D_q, point), body axes and frame
+    damping_link: str | None = None
 
 
 def _tree(robot, source: str):
@@ -350,6 +354,21 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.
         C, o, radius, length, cd = hydro.cylinder
         body.cylinder = (R @ C, p + R @ o, radius, length, cd)
         body.cylinder_link = link
+    if hydro.damping is not None:
+        where = f"links.{link}.damping" if b != 0 or link != root else "vehicle.damping"
+        if body.damping is not None:
+            raise UvmsInputError(f"link {link!r} is fixed to link {body.damping_link!r}, which already has Fossen "
+                                 "damping: one damping table per moving body", extras_source, where)
+        D_l, D_q, point = hydro.damping
+        rotated = not np.allclose(R, np.eye(3), rtol=0.0, atol=1e-12)
+        if rotated and np.any(D_q):
+            raise UvmsInputError(f"link {link!r} is fixed to its body with a rotation: quadratic damping "
+                                 "(D_q diag|nu|) does not rotate into the body's axes; give it on the moving link",
+                                 extras_source, where)
+        B = np.zeros((6, 6))                 # link-to-body rotation of [angular; linear] vectors
+        B[:3, :3] = B[3:, 3:] = R
+        body.damping = (B @ D_l @ B.T, D_q, p + R @ point)
+        body.damping_link = link
 
 
 def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str) -> Model:
@@ -448,6 +467,9 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
         joint_axis=joint_axis, joint_damping=damping, joint_friction=friction, joint_friction_speed=speed,
         joint_limits=limits, link_cylinder_rotation=cyl_R, link_cylinder_origin=cyl_o, ee_body=ee.body,
         frames=tuple(frame_list),
+        damping_linear=np.array([b.damping[0] if b.damping else np.zeros((6, 6)) for b in bodies]),
+        damping_quadratic=np.array([b.damping[1] if b.damping else np.zeros((6, 6)) for b in bodies]),
+        damping_point=np.array([b.damping[2] if b.damping else np.zeros(3) for b in bodies]).reshape(nb, 3),
     )
 
 
