@@ -26,6 +26,14 @@ def _added_mass(body: VehicleSpec | LinkSpec, density: float) -> np.ndarray:
     return shift_spatial_inertia(I_A, np.array(body.com)) if spec.about == "com" else I_A
 
 
+def _thrusters(spec: ModelSpec | UrdfModelSpec, source: str | None) -> tuple:
+    """The thrusters of a model file; a table thruster's CSV is read beside the file."""
+    from pathlib import Path
+
+    base = Path(source).parent if source is not None else None
+    return tuple(thruster_from_spec(t, i, base=base, source=source) for i, t in enumerate(spec.thrusters))
+
+
 def _joints(arm: ArmSpec | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Per-joint ``(rotation, position, theta_offset)`` and the end-effector pose, from modified-DH rows."""
     if arm is None:
@@ -82,7 +90,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         gravity=np.array(env.gravity),
         current=np.array(env.current),
         fluid_acceleration=np.array(env.fluid_acceleration),
-        thrusters=tuple(thruster_from_spec(t, i) for i, t in enumerate(spec.thrusters)),
+        thrusters=_thrusters(spec, source),
         damping_linear=np.array([d[0][0] if d else np.zeros((6, 6)) for d in damping]),
         damping_quadratic=np.array([d[0][1] if d else np.zeros((6, 6)) for d in damping]),
         damping_point=np.array([d[1] if d else (0.0, 0.0, 0.0) for d in damping]).reshape(-1, 3),
@@ -144,6 +152,6 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
         vehicle_box=vehicle.box, vehicle_hydro=vehicle_hydro, links=links,
         joints={name: {k: v for k, v in j.model_dump().items() if v is not None} for name, j in spec.joints.items()},
         end_effector=spec.end_effector, fixed_joints=spec.fixed_joints,
-        thrusters=tuple(thruster_from_spec(t, i) for i, t in enumerate(spec.thrusters)), source=source,
+        thrusters=_thrusters(spec, source), source=source,
     )
     return model_from_urdf(urdf_path, extras)

@@ -387,15 +387,43 @@ class ArmSpec(Spec):
         return links
 
 
+class ThrustTableSpec(Spec):
+    """A thrust table typed into the model file: commands (strictly increasing, any unit) and the steady
+    thrust at each, in newtons (``thrust_N``) or kilogram-force (``thrust_kgf``)."""
+
+    command: tuple[Number, ...]
+    thrust_N: tuple[Number, ...] | None = None    # [N]
+    thrust_kgf: tuple[Number, ...] | None = None  # [kgf] (x 9.80665 N)
+
+    @model_validator(mode="after")
+    def _one_form(self) -> ThrustTableSpec:
+        if (self.thrust_N is None) == (self.thrust_kgf is None):
+            found = "both" if self.thrust_N is not None else "neither"
+            raise fail(f"expected exactly one of 'thrust_N' or 'thrust_kgf', found {found}")
+        return self
+
+
 class ThrusterSpec(Spec):
-    """A thruster (validated loosely for now; Eqs. 9-12)."""
+    """A thruster (Eqs. 9-12); ``model: table`` takes its steady thrust from a datasheet table
+    (:mod:`uvms.thrusters.table`): ``table`` is ``t200`` (bundled Blue Robotics T200 at 16 V), a CSV file
+    beside the model file, or an inline :class:`ThrustTableSpec`."""
 
     name: Name
     position: Vec3                                # r_h, body frame [m]
     direction: Vec3                               # e_h, body frame (non-zero; normalised when used)
-    model: Literal["healey", "first_order", "ideal"]
+    model: Literal["healey", "first_order", "ideal", "table"]
     parameters: dict[str, Number] | None = None
     max_thrust: Positive | None = None            # [N]
+    table: Name | ThrustTableSpec | None = None   # model: table only
+
+    @model_validator(mode="after")
+    def _table(self) -> ThrusterSpec:
+        if self.model == "table" and self.table is None:
+            raise fail("expected a 'table' (t200, a CSV file name, or {command, thrust_N}) for model: table, "
+                       "found none")
+        if self.model != "table" and self.table is not None:
+            raise fail(f"a 'table' is only read for model: table, found model: {self.model}", "table")
+        return self
 
     @field_validator("direction")
     @classmethod
