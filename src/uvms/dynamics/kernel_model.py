@@ -53,7 +53,8 @@ class KernelModel(NamedTuple):
                                 #   not along the body x axis from the origin else 0.0]
     fossen: np.ndarray          # (nb, 13, 6) Fossen damping of each body: rows 0-5 D_l, rows 6-11 D_q
                                 #   ([angular; linear] entries), row 12 [point (3) [m], 1.0 if the body has any
-                                #   Fossen damping else 0.0, 0, 0] (docs/models.md, "Fossen damping")
+                                #   Fossen damping else 0.0, number of shape drag rows, 0] (docs/models.md)
+    shapes: np.ndarray          # (nb, max(1, k), DRAG_ROW) each body's shape drag table (uvms.hydro.shapes)
     ee_body: int                # the body the end effector is fixed in
     ee_E: np.ndarray            # (3, 3) body-to-end-effector coordinate rotation
     ee_r: np.ndarray            # (3,) end-effector origin in body coordinates [m]
@@ -78,7 +79,7 @@ class Workspace(NamedTuple):
     vc: np.ndarray      # (nb, 3) current velocity in body axes
     af: np.ndarray      # (nb, 3) fluid acceleration in body axes
     m6: np.ndarray      # (3, 6, 6) scratch matrices
-    w6: np.ndarray      # (5, 6) scratch vectors
+    w6: np.ndarray      # (7, 6) scratch vectors (rows 5-6: the shape drag kernel's work array)
     f4: np.ndarray      # (4, 6) one body's named forces: added mass, drag, buoyancy, gravity
 
 
@@ -133,6 +134,7 @@ def kernel_model_from(model) -> KernelModel:
         vehicle_drag_angular=np.full(3, rho * model.vehicle_rotational_drag_coefficient * a**5 / 32.0),
         cylinder=cylinder,
         fossen=_fossen_rows(model),
+        shapes=_shape_rows(model),
         ee_body=int(model.ee_body),
         ee_E=np.array(model.ee_rotation, dtype=float).T.copy(),
         ee_r=np.array(model.ee_position, dtype=float),
@@ -149,6 +151,16 @@ def _fossen_rows(model) -> np.ndarray:
     out[:, 12, 0:3] = model.damping_point
     out[:, 12, 3] = [1.0 if np.any(model.damping_linear[i]) or np.any(model.damping_quadratic[i]) else 0.0
                      for i in range(nb)]
+    out[:, 12, 4] = model.shape_count
+    return out
+
+
+def _shape_rows(model) -> np.ndarray:
+    """:attr:`KernelModel.shapes`: the model's shape drag tables with at least one (zero) row per body."""
+    table = np.asarray(model.shape_drag, dtype=float)
+    nb, k, width = table.shape
+    out = np.zeros((nb, max(1, k), width))
+    out[:, :k] = table
     return out
 
 
@@ -159,5 +171,5 @@ def make_workspace(n_bodies: int) -> Workspace:
         Xup=np.zeros((nb, 6, 6)), E=np.zeros((nb, 3, 3)), r=np.zeros((nb, 3)), v=np.zeros((nb, 6)), c=np.zeros((nb, 6)),
         a=np.zeros((nb, 6)), IA=np.zeros((nb, 6, 6)), pA=np.zeros((nb, 6)), U=np.zeros((nb, 6)),
         d=np.zeros(nb), u=np.zeros(nb), g=np.zeros((nb, 3)), vc=np.zeros((nb, 3)), af=np.zeros((nb, 3)),
-        m6=np.zeros((3, 6, 6)), w6=np.zeros((5, 6)), f4=np.zeros((4, 6)),
+        m6=np.zeros((3, 6, 6)), w6=np.zeros((7, 6)), f4=np.zeros((4, 6)),
     )

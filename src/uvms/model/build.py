@@ -26,6 +26,45 @@ def _added_mass(body: VehicleSpec | LinkSpec, density: float) -> np.ndarray:
     return shift_spatial_inertia(I_A, np.array(body.com)) if spec.about == "com" else I_A
 
 
+def shape_objects(specs) -> list:
+    """:mod:`uvms.hydro.shapes` objects of schema shapes (``from_collision`` entries left out)."""
+    from uvms.hydro import shapes as hs
+    from uvms.model.schema import (
+        BoxShapeSpec,
+        CylinderShapeSpec,
+        EllipsoidShapeSpec,
+        SphereShapeSpec,
+    )
+
+    out = []
+    for s in specs:
+        if not isinstance(s, (SphereShapeSpec, BoxShapeSpec, CylinderShapeSpec, EllipsoidShapeSpec)):
+            continue
+        pose = {"rotation": s.rotation(), "position": np.array(s.position)}
+        if isinstance(s, SphereShapeSpec):
+            out.append(hs.Sphere(s.radius, s.drag_coefficient, **pose))
+        elif isinstance(s, BoxShapeSpec):
+            out.append(hs.Box(tuple(s.size), tuple(s.drag_coefficients), **pose))
+        elif isinstance(s, CylinderShapeSpec):
+            out.append(hs.Cylinder(s.radius, s.length, s.drag_coefficient, s.axial_drag_coefficient, **pose))
+        elif isinstance(s, EllipsoidShapeSpec):
+            out.append(hs.Ellipsoid(tuple(s.semi_axes), s.drag_coefficient, s.axial_drag_coefficient, **pose))
+    return out
+
+
+def shape_drag_tables(shapes_per_body: list[list], density: float) -> np.ndarray:
+    """``(nb, k, DRAG_ROW)`` drag tables of the bodies' shapes, padded with zero rows (kind column ``-1``:
+    the count of real rows is ``Model.shape_count``)."""
+    from uvms.hydro.shapes import DRAG_ROW, drag_table
+
+    k = max([len(s) for s in shapes_per_body] + [0])
+    out = np.zeros((len(shapes_per_body), k, DRAG_ROW))
+    for i, shapes in enumerate(shapes_per_body):
+        if shapes:
+            out[i, :len(shapes)] = drag_table(shapes, density)
+    return out
+
+
 def _thrusters(spec: ModelSpec | UrdfModelSpec, source: str | None) -> tuple:
     """The thrusters of a model file; a table thruster's CSV is read beside the file."""
     from pathlib import Path
@@ -63,6 +102,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
     added_mass = np.array([_added_mass(b, env.density) for b in bodies])
     check_joint_axis_inertia(mass, com, inertia, added_mass, source=source, where=lambda j: f"arm.links[{j}].inertia")
     damping = [(b.damping.matrices(), b.damping.about) if b.damping is not None else None for b in bodies]
+    shapes = [shape_objects(b.shapes) for b in bodies]
     return Model(
         name=spec.name,
         source=source,
@@ -94,6 +134,8 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         damping_linear=np.array([d[0][0] if d else np.zeros((6, 6)) for d in damping]),
         damping_quadratic=np.array([d[0][1] if d else np.zeros((6, 6)) for d in damping]),
         damping_point=np.array([d[1] if d else (0.0, 0.0, 0.0) for d in damping]).reshape(-1, 3),
+        shape_drag=shape_drag_tables(shapes, env.density),
+        shape_count=np.array([len(x) for x in shapes]),
     )
 
 
@@ -105,6 +147,18 @@ def _cylinder_rotation(axis) -> np.ndarray:
     y = helper - (helper @ x) * x
     y /= np.linalg.norm(y)
     return np.column_stack([x, y, np.cross(x, y)])
+
+
+def _shapes_into(hydro, spec) -> None:
+    """A link's (or the vehicle's) shapes into its :class:`~uvms.model.urdf.LinkHydro`; explicit added mass and
+    buoyancy override the shapes' (``docs/models.md``, "Shapes")."""
+    from uvms.model.schema import FromCollisionSpec
+
+    hydro.shapes = shape_objects(spec.shapes)
+    collision = [s for s in spec.shapes if isinstance(s, FromCollisionSpec)]
+    hydro.from_collision = collision[0].drag_coefficient if collision else None
+    hydro.explicit_added_mass = spec.added_mass is not None
+    hydro.explicit_buoyancy = spec.buoyancy is not None
 
 
 def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
@@ -131,6 +185,7 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
             hydro.center = np.array(link.buoyancy.center)
         if link.damping is not None:
             hydro.damping = (*link.damping.matrices(), np.array(link.damping.about))
+        _shapes_into(hydro, link)
         links[name] = hydro
     vehicle = spec.vehicle
     vehicle_hydro = LinkHydro()
@@ -141,6 +196,7 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
         vehicle_hydro.center = np.array(vehicle.buoyancy.center)
     if vehicle.damping is not None:
         vehicle_hydro.damping = (*vehicle.damping.matrices(), np.array(vehicle.damping.about))
+    _shapes_into(vehicle_hydro, vehicle)
     drag = vehicle.drag
     extras = VehicleExtras(
         name=spec.name, density=rho, gravity=env.gravity, current=env.current,

@@ -195,7 +195,7 @@ def _from_geometry(value: Any) -> Any:
     return value
 
 
-UNION_TAGS = ("string", "mapping")
+UNION_TAGS = ("string", "mapping", "sphere", "box", "cylinder", "ellipsoid", "from_collision", "unknown")
 """Tags of tagged unions; :func:`uvms.model.load.format_validation_error` leaves them out of field paths."""
 
 LinkAddedMass = Annotated[
@@ -318,6 +318,124 @@ class FossenDampingSpec(Spec):
                 np.array(self.quadratic) if self.quadratic is not None else zero)
 
 
+PositiveVec3 = Annotated[tuple[float, float, float], _vector(3, minimum=0.0)]
+
+
+class _ShapeSpec(Spec):
+    """A hydrodynamic shape posed in its body's frame (:mod:`uvms.hydro.shapes`): gives buoyancy (volume and
+    centre), added mass (summed over the body's shapes) and quadratic drag. ``position`` is the shape's centre
+    [m] and ``rotation_rpy`` its orientation ``Rz(yaw) Ry(pitch) Rx(roll)`` [rad], body frame."""
+
+    position: Vec3 = ZERO3
+    rotation_rpy: Vec3 = ZERO3
+
+    def _positive(self, names: tuple[str, ...]) -> None:
+        for name in names:
+            value = getattr(self, name)
+            values = value if isinstance(value, tuple) else (value,)
+            if not all(v > 0 for v in values):
+                raise fail(f"expected positive dimensions [m], found {show(list(values) if len(values) > 1 else values[0])}",
+                           name)
+
+    def rotation(self) -> np.ndarray:
+        from uvms.rotations import rotation_from_euler
+
+        return rotation_from_euler(np.array(self.rotation_rpy))
+
+
+class SphereShapeSpec(_ShapeSpec):
+    """A sphere of ``radius`` [m]; ``drag_coefficient`` [-] on its frontal area ``pi a^2``."""
+
+    type: Literal["sphere"]
+    radius: Number
+    drag_coefficient: NonNegative = 0.0
+
+    @model_validator(mode="after")
+    def _dims(self) -> SphereShapeSpec:
+        self._positive(("radius",))
+        return self
+
+
+class BoxShapeSpec(_ShapeSpec):
+    """A box of edges ``size`` [m] (shape x, y, z); ``drag_coefficients`` [-] per face family."""
+
+    type: Literal["box"]
+    size: Vec3
+    drag_coefficients: NonNegativeVec3 = ZERO3
+
+    @model_validator(mode="after")
+    def _dims(self) -> BoxShapeSpec:
+        self._positive(("size",))
+        return self
+
+
+class CylinderShapeSpec(_ShapeSpec):
+    """A solid cylinder of ``radius`` and ``length`` [m] along the shape x axis, centred on ``position``;
+    cross-flow ``drag_coefficient`` (Eq. 6) and end-on ``axial_drag_coefficient`` [-]."""
+
+    type: Literal["cylinder"]
+    radius: Number
+    length: Number
+    drag_coefficient: NonNegative = 0.0
+    axial_drag_coefficient: NonNegative = 0.0
+
+    @model_validator(mode="after")
+    def _dims(self) -> CylinderShapeSpec:
+        self._positive(("radius", "length"))
+        return self
+
+
+class EllipsoidShapeSpec(_ShapeSpec):
+    """An ellipsoid of ``semi_axes`` [m]; cross-flow and axial drag coefficients [-] (along shape x)."""
+
+    type: Literal["ellipsoid"]
+    semi_axes: Vec3
+    drag_coefficient: NonNegative = 0.0
+    axial_drag_coefficient: NonNegative = 0.0
+
+    @model_validator(mode="after")
+    def _dims(self) -> EllipsoidShapeSpec:
+        self._positive(("semi_axes",))
+        return self
+
+
+class FromCollisionSpec(Spec):
+    """The URDF link's ``<collision>`` primitives (box, cylinder, sphere) as shapes, each with this drag
+    coefficient [-] (a box on every face, a cylinder across its axis); meshes are skipped with a warning."""
+
+    type: Literal["from_collision"]
+    drag_coefficient: NonNegative = 0.0
+
+
+def _shape_type(value: Any) -> str:
+    kind = value.get("type") if isinstance(value, dict) else None
+    return kind if kind in ("sphere", "box", "cylinder", "ellipsoid", "from_collision") else "unknown"
+
+
+def _unknown_shape(value: Any) -> Any:
+    kind = value.get("type") if isinstance(value, dict) else value
+    raise fail(f"expected a shape with type sphere, box, cylinder, ellipsoid or from_collision, found "
+               f"{show(kind)}")
+
+
+ShapeSpec = Annotated[
+    Annotated[SphereShapeSpec, Tag("sphere")] | Annotated[BoxShapeSpec, Tag("box")]
+    | Annotated[CylinderShapeSpec, Tag("cylinder")] | Annotated[EllipsoidShapeSpec, Tag("ellipsoid")]
+    | Annotated[FromCollisionSpec, Tag("from_collision")]
+    | Annotated[Any, BeforeValidator(_unknown_shape), Tag("unknown")],
+    Discriminator(_shape_type),
+]
+SHAPE_TAGS = ("sphere", "box", "cylinder", "ellipsoid", "from_collision", "unknown")
+
+
+def _no_collision(shapes: tuple) -> tuple:
+    for k, shape in enumerate(shapes):
+        if isinstance(shape, FromCollisionSpec):
+            raise fail("from_collision reads a URDF link's collision primitives: use it in a URDF model's "
+                       "additions", f"[{k}]")
+    return shapes
+
+
 class VehicleSpec(_BodySpec):
     """The vehicle (body 0; paper appendix, "URV Parameters")."""
 
@@ -327,6 +445,9 @@ class VehicleSpec(_BodySpec):
     drag: VehicleDragSpec
     box: NonNegativeVec3                          # box dimensions [m]
     damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping (added to ``drag``)
+    shapes: tuple[ShapeSpec, ...] = ()            # buoyancy, added mass and drag of shapes (added to ``drag``)
+
+    _shapes_here = field_validator("shapes")(classmethod(lambda cls, v: _no_collision(v)))
 
 
 class DHSpec(Spec):
@@ -356,6 +477,9 @@ class LinkSpec(_BodySpec):
     buoyancy: BuoyancySpec
     added_mass: LinkAddedMass                     # or "from_geometry" (strip theory for the cylinder)
     damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping (added to Eq. 6)
+    shapes: tuple[ShapeSpec, ...] = ()            # buoyancy, added mass and drag of shapes (added to Eq. 6)
+
+    _shapes_here = field_validator("shapes")(classmethod(lambda cls, v: _no_collision(v)))
 
 
 class MountSpec(Spec):
@@ -520,6 +644,7 @@ class UrdfLinkSpec(Spec):
     buoyancy: FluidVolumeSpec | None = None
     cylinder: LinkCylinderSpec | None = None
     damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping, link frame
+    shapes: tuple[ShapeSpec, ...] = ()            # shapes in the link frame, or from_collision
 
     @model_validator(mode="after")
     def _geometry(self) -> UrdfLinkSpec:
@@ -535,6 +660,7 @@ class UrdfVehicleSpec(Spec):
     buoyancy: FluidVolumeSpec | None = None
     drag: VehicleDragSpec | None = None
     damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping, vehicle frame
+    shapes: tuple[ShapeSpec, ...] = ()            # shapes in the vehicle (root link) frame, or from_collision
     box: NonNegativeVec3 = ZERO3                  # box dimensions [m] (plots)
 
 
