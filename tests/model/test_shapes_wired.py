@@ -76,6 +76,9 @@ def test_cube_rotational_drag_through_the_dynamics_is_eq4(tmp_path):
     # switching drag off removes it (the shape drag is drag)
     off = uvms.forward_dynamics(model.with_effects(drag=False), state).nu_dot
     assert off[2] == 0.0
+    # drag uses the model's density directly (a scenario's density override)
+    dense = uvms.forward_dynamics(model.replace(density=2 * RHO), state).nu_dot
+    assert dense[2] == pytest.approx(2 * expected, rel=1e-12)
 
 
 def test_from_collision_reads_the_urdf_primitives(tmp_path):
@@ -123,3 +126,28 @@ def test_bad_added_mass_is_one_line(tmp_path):
         uvms.load_model(path)
     assert "symmetric" in str(info.value) and "vehicle.added_mass" in str(info.value)
     assert main(["validate", str(path)]) == 2
+
+
+FIXED_CHILD = """<collision><origin xyz="0 0 0"/><geometry><sphere radius="0.01"/></geometry></collision>
+  </link>
+  <joint name="fix" type="fixed"><parent link="hull"/><child link="pod"/>
+    <origin xyz="0.1 0.2 0.3" rpy="0 0 1.5707963267948966"/></joint>
+  <link name="pod">"""
+
+
+def test_damping_of_a_fixed_link_is_rotated_into_its_body(tmp_path):
+    """A link fixed to the vehicle with a 90 deg yaw: its linear damping is B D_l B^T in vehicle axes
+    (B = diag(R, R)) about the link's point moved into the vehicle frame; quadratic damping is refused there."""
+    path = write(tmp_path, collision=FIXED_CHILD, vehicle={})
+    data = yaml.safe_load(path.read_text())
+    data["links"] = {"pod": {"damping": {"convention": "magnitude", "about": [0.05, 0.0, 0.0],
+                                         "coefficients": {"X_u": 3.0, "Y_v": 5.0, "N_r": 0.2}}}}
+    path.write_text(yaml.safe_dump(data))
+    model = uvms.load_model(path)
+    # link x -> vehicle y, link y -> vehicle -x: surge damping of the link is sway damping of the vehicle
+    np.testing.assert_allclose(np.diag(model.damping_linear[0]), [0, 0, 0.2, 5.0, 3.0, 0], atol=1e-12)
+    np.testing.assert_allclose(model.damping_point[0], [0.1, 0.25, 0.3], atol=1e-12)
+    data["links"]["pod"]["damping"]["coefficients"]["X_u|u|"] = 10.0
+    path.write_text(yaml.safe_dump(data))
+    with pytest.raises(UvmsInputError, match="links.pod.damping"):
+        uvms.load_model(path)

@@ -54,7 +54,8 @@ class KernelModel(NamedTuple):
     fossen: np.ndarray          # (nb, 13, 6) Fossen damping of each body: rows 0-5 D_l, rows 6-11 D_q
                                 #   ([angular; linear] entries), row 12 [point (3) [m], 1.0 if the body has any
                                 #   Fossen damping else 0.0, number of shape drag rows, 0] (docs/models.md)
-    shapes: np.ndarray          # (nb, max(1, k), DRAG_ROW) each body's shape drag table (uvms.hydro.shapes)
+    shapes: np.ndarray          # (nb, max(1, k), DRAG_ROW) each body's shape drag table (uvms.hydro.shapes,
+                                #   coefficients 0.5 rho Cd (area) at the model's density)
     ee_body: int                # the body the end effector is fixed in
     ee_E: np.ndarray            # (3, 3) body-to-end-effector coordinate rotation
     ee_r: np.ndarray            # (3,) end-effector origin in body coordinates [m]
@@ -157,10 +158,13 @@ def _fossen_rows(model) -> np.ndarray:
 
 def _shape_rows(model) -> np.ndarray:
     """:attr:`KernelModel.shapes`: the model's shape drag tables with at least one (zero) row per body."""
+    from uvms.hydro.shapes import COL_COEFFICIENTS
+
     table = np.asarray(model.shape_drag, dtype=float)
     nb, k, width = table.shape
     out = np.zeros((nb, max(1, k), width))
     out[:, :k] = table
+    out[:, :k, COL_COEFFICIENTS:] *= model.density      # the model keeps them per unit density
     return out
 
 

@@ -52,16 +52,17 @@ def shape_objects(specs) -> list:
     return out
 
 
-def shape_drag_tables(shapes_per_body: list[list], density: float) -> np.ndarray:
-    """``(nb, k, DRAG_ROW)`` drag tables of the bodies' shapes, padded with zero rows (kind column ``-1``:
-    the count of real rows is ``Model.shape_count``)."""
+def shape_drag_tables(shapes_per_body: list[list]) -> np.ndarray:
+    """``(nb, k, DRAG_ROW)`` drag tables of the bodies' shapes **per unit fluid density** (the kernel model
+    multiplies the coefficient columns by ``Model.density``, so a density override applies to them), padded
+    with zero rows (the count of real rows is ``Model.shape_count``)."""
     from uvms.hydro.shapes import DRAG_ROW, drag_table
 
     k = max([len(s) for s in shapes_per_body] + [0])
     out = np.zeros((len(shapes_per_body), k, DRAG_ROW))
     for i, shapes in enumerate(shapes_per_body):
         if shapes:
-            out[i, :len(shapes)] = drag_table(shapes, density)
+            out[i, :len(shapes)] = drag_table(shapes, 1.0)
     return out
 
 
@@ -134,7 +135,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         damping_linear=np.array([d[0][0] if d else np.zeros((6, 6)) for d in damping]),
         damping_quadratic=np.array([d[0][1] if d else np.zeros((6, 6)) for d in damping]),
         damping_point=np.array([d[1] if d else (0.0, 0.0, 0.0) for d in damping]).reshape(-1, 3),
-        shape_drag=shape_drag_tables(shapes, env.density),
+        shape_drag=shape_drag_tables(shapes),
         shape_count=np.array([len(x) for x in shapes]),
     )
 

@@ -104,7 +104,8 @@ class Model:
             entries [N s/m, N m s/rad, N s, N m s/m] (zero by default; ``docs/models.md``, "Fossen damping").
         damping_quadratic: (nb, 6, 6) Fossen's quadratic damping ``D_q`` [N s^2/m^2, N m s^2/rad^2, ...].
         shape_drag: (nb, k, DRAG_ROW) drag table rows of each body's hydrodynamic shapes
-            (:func:`uvms.hydro.shapes.drag_table`, body frame), padded with zero rows; ``k`` may be 0.
+            (:func:`uvms.hydro.shapes.drag_table` at unit density, body frame; the kernels multiply the
+            coefficients by ``density``), padded with zero rows; ``k`` may be 0.
         shape_count: (nb,) number of real rows of ``shape_drag`` per body (0: no shape drag).
         damping_point: (nb, 3) point the damping coefficients hold about, body frame [m]: the force is
             ``-(D_l + D_q diag|nu_p|) nu_p`` with ``nu_p`` that point's velocity relative to the fluid.

@@ -533,7 +533,7 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
         damping_linear=np.array([b.damping[0] if b.damping else np.zeros((6, 6)) for b in bodies]),
         damping_quadratic=np.array([b.damping[1] if b.damping else np.zeros((6, 6)) for b in bodies]),
         damping_point=np.array([b.damping[2] if b.damping else np.zeros(3) for b in bodies]).reshape(nb, 3),
-        shape_drag=shape_drag_tables([b.shapes for b in bodies], extras.density),
+        shape_drag=shape_drag_tables([b.shapes for b in bodies]),
         shape_count=np.array([len(b.shapes) for b in bodies]),
     )
 
