@@ -89,8 +89,8 @@ def passive_joint_force(damping, friction, inv_speed, qd):
 
 
 @njit(cache=True, inline="always")
-def body_hydro_forces(I_A, drag_linear, drag_angular, cylinder, fossen, shapes, is_vehicle, mass, com, fluid_mass, cob, v, vc,
-                      af, g, f, scratch):
+def body_hydro_forces(I_A, drag_linear, drag_angular, cylinder, fossen, shapes, is_vehicle, mass, com, fluid_mass,
+                      cob, v, vc, af, g, f, scratch):
     """The four named forces on one body at velocity ``v`` (body axes), into the rows of ``f``:
     ``f[0]`` added-mass velocity and fluid-acceleration terms (Eq. 2), ``f[1]`` drag (Eqs. 3-6), ``f[2]``
     buoyancy and fluid acceleration (Eqs. 7-8), ``f[3]`` gravity. ``scratch[0]`` returns ``nu_r``;
@@ -203,8 +203,8 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
             pA[k] = 0.0
         crf_mul_add(vi, h, 1.0, pA)
         body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i],
-                          km.fossen[i], km.shapes[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], vi, ws.vc[i],
-                          ws.af[i], ws.g[i], f, scratch)
+                          km.fossen[i], km.shapes[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i],
+                          vi, ws.vc[i], ws.af[i], ws.g[i], f, scratch)
         for k in range(6):
             pA[k] -= f[0, k] + f[1, k] + f[2, k] + f[3, k]
         IA = ws.IA[i]

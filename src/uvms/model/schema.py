@@ -334,8 +334,8 @@ class _ShapeSpec(Spec):
             value = getattr(self, name)
             values = value if isinstance(value, tuple) else (value,)
             if not all(v > 0 for v in values):
-                raise fail(f"expected positive dimensions [m], found {show(list(values) if len(values) > 1 else values[0])}",
-                           name)
+                found = show(list(values) if len(values) > 1 else values[0])
+                raise fail(f"expected positive dimensions [m], found {found}", name)
 
     def rotation(self) -> np.ndarray:
         from uvms.rotations import rotation_from_euler
@@ -425,14 +425,13 @@ ShapeSpec = Annotated[
     | Annotated[Any, BeforeValidator(_unknown_shape), Tag("unknown")],
     Discriminator(_shape_type),
 ]
-SHAPE_TAGS = ("sphere", "box", "cylinder", "ellipsoid", "from_collision", "unknown")
 
 
 def _no_collision(shapes: tuple) -> tuple:
     for k, shape in enumerate(shapes):
         if isinstance(shape, FromCollisionSpec):
-            raise fail("from_collision reads a URDF link's collision primitives: use it in a URDF model's "
-                       "additions", f"[{k}]")
+            raise fail(f"entry {k} is from_collision, which reads a URDF link's collision primitives: use it in "
+                       "a URDF model's additions")
     return shapes
 
 
