@@ -195,7 +195,8 @@ def _from_geometry(value: Any) -> Any:
     return value
 
 
-UNION_TAGS = ("string", "mapping", "sphere", "box", "cylinder", "ellipsoid", "from_collision", "unknown")
+SHAPE_TYPES = ("sphere", "box", "cylinder", "ellipsoid", "from_collision")
+UNION_TAGS = ("string", "mapping", *(f"shape:{t}" for t in SHAPE_TYPES), "shape:unknown")
 """Tags of tagged unions; :func:`uvms.model.load.format_validation_error` leaves them out of field paths."""
 
 LinkAddedMass = Annotated[
@@ -409,7 +410,7 @@ class FromCollisionSpec(Spec):
 
 def _shape_type(value: Any) -> str:
     kind = value.get("type") if isinstance(value, dict) else None
-    return kind if kind in ("sphere", "box", "cylinder", "ellipsoid", "from_collision") else "unknown"
+    return f"shape:{kind}" if kind in SHAPE_TYPES else "shape:unknown"
 
 
 def _unknown_shape(value: Any) -> Any:
@@ -419,10 +420,10 @@ def _unknown_shape(value: Any) -> Any:
 
 
 ShapeSpec = Annotated[
-    Annotated[SphereShapeSpec, Tag("sphere")] | Annotated[BoxShapeSpec, Tag("box")]
-    | Annotated[CylinderShapeSpec, Tag("cylinder")] | Annotated[EllipsoidShapeSpec, Tag("ellipsoid")]
-    | Annotated[FromCollisionSpec, Tag("from_collision")]
-    | Annotated[Any, BeforeValidator(_unknown_shape), Tag("unknown")],
+    Annotated[SphereShapeSpec, Tag("shape:sphere")] | Annotated[BoxShapeSpec, Tag("shape:box")]
+    | Annotated[CylinderShapeSpec, Tag("shape:cylinder")] | Annotated[EllipsoidShapeSpec, Tag("shape:ellipsoid")]
+    | Annotated[FromCollisionSpec, Tag("shape:from_collision")]
+    | Annotated[Any, BeforeValidator(_unknown_shape), Tag("shape:unknown")],
     Discriminator(_shape_type),
 ]
 
