@@ -51,6 +51,11 @@ class KernelModel(NamedTuple):
                                 #   rotation (the cylinder along its x), row 3 its origin in the body [m], row 4
                                 #   [0.5 rho Cd (2 r) per unit length [kg/m^2], length L [m], 1.0 if the cylinder is
                                 #   not along the body x axis from the origin else 0.0]
+    fossen: np.ndarray          # (nb, 13, 6) Fossen damping of each body: rows 0-5 D_l, rows 6-11 D_q
+                                #   ([angular; linear] entries), row 12 [point (3) [m], 1.0 if the body has any
+                                #   Fossen damping else 0.0, number of shape drag rows, 0] (docs/models.md)
+    shapes: np.ndarray          # (nb, max(1, k), DRAG_ROW) each body's shape drag table (uvms.hydro.shapes,
+                                #   coefficients 0.5 rho Cd (area) at the model's density)
     ee_body: int                # the body the end effector is fixed in
     ee_E: np.ndarray            # (3, 3) body-to-end-effector coordinate rotation
     ee_r: np.ndarray            # (3,) end-effector origin in body coordinates [m]
@@ -75,7 +80,7 @@ class Workspace(NamedTuple):
     vc: np.ndarray      # (nb, 3) current velocity in body axes
     af: np.ndarray      # (nb, 3) fluid acceleration in body axes
     m6: np.ndarray      # (3, 6, 6) scratch matrices
-    w6: np.ndarray      # (5, 6) scratch vectors
+    w6: np.ndarray      # (7, 6) scratch vectors (rows 5-6: the shape drag kernel's work array)
     f4: np.ndarray      # (4, 6) one body's named forces: added mass, drag, buoyancy, gravity
 
 
@@ -129,11 +134,38 @@ def kernel_model_from(model) -> KernelModel:
         vehicle_drag_linear=0.5 * rho * model.vehicle_drag_area * model.vehicle_drag_coefficient,
         vehicle_drag_angular=np.full(3, rho * model.vehicle_rotational_drag_coefficient * a**5 / 32.0),
         cylinder=cylinder,
+        fossen=_fossen_rows(model),
+        shapes=_shape_rows(model),
         ee_body=int(model.ee_body),
         ee_E=np.array(model.ee_rotation, dtype=float).T.copy(),
         ee_r=np.array(model.ee_position, dtype=float),
         gravity=np.array(model.gravity, dtype=float),
     )
+
+
+def _fossen_rows(model) -> np.ndarray:
+    """:attr:`KernelModel.fossen` of a model: ``D_l``, ``D_q`` and ``[point, flag, 0, 0]`` per body."""
+    nb = model.n_bodies
+    out = np.zeros((nb, 13, 6))
+    out[:, 0:6] = model.damping_linear
+    out[:, 6:12] = model.damping_quadratic
+    out[:, 12, 0:3] = model.damping_point
+    out[:, 12, 3] = [1.0 if np.any(model.damping_linear[i]) or np.any(model.damping_quadratic[i]) else 0.0
+                     for i in range(nb)]
+    out[:, 12, 4] = model.shape_count
+    return out
+
+
+def _shape_rows(model) -> np.ndarray:
+    """:attr:`KernelModel.shapes`: the model's shape drag tables with at least one (zero) row per body."""
+    from uvms.hydro.shapes import COL_COEFFICIENTS
+
+    table = np.asarray(model.shape_drag, dtype=float)
+    nb, k, width = table.shape
+    out = np.zeros((nb, max(1, k), width))
+    out[:, :k] = table
+    out[:, :k, COL_COEFFICIENTS:] *= model.density      # the model keeps them per unit density
+    return out
 
 
 def make_workspace(n_bodies: int) -> Workspace:
@@ -143,5 +175,5 @@ def make_workspace(n_bodies: int) -> Workspace:
         Xup=np.zeros((nb, 6, 6)), E=np.zeros((nb, 3, 3)), r=np.zeros((nb, 3)), v=np.zeros((nb, 6)), c=np.zeros((nb, 6)),
         a=np.zeros((nb, 6)), IA=np.zeros((nb, 6, 6)), pA=np.zeros((nb, 6)), U=np.zeros((nb, 6)),
         d=np.zeros(nb), u=np.zeros(nb), g=np.zeros((nb, 3)), vc=np.zeros((nb, 3)), af=np.zeros((nb, 3)),
-        m6=np.zeros((3, 6, 6)), w6=np.zeros((5, 6)), f4=np.zeros((4, 6)),
+        m6=np.zeros((3, 6, 6)), w6=np.zeros((7, 6)), f4=np.zeros((4, 6)),
     )

@@ -24,6 +24,8 @@ from uvms.hydro.added_mass import added_mass_force
 from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
 from uvms.hydro.drag import link_drag_force, vehicle_drag_force
+from uvms.hydro.fossen import fossen_damping_force
+from uvms.hydro.shapes import shapes_drag_force
 
 
 @njit(cache=True, inline="always")
@@ -87,14 +89,19 @@ def passive_joint_force(damping, friction, inv_speed, qd):
 
 
 @njit(cache=True, inline="always")
-def body_hydro_forces(I_A, drag_linear, drag_angular, cylinder, is_vehicle, mass, com, fluid_mass, cob, v, vc, af, g,
-                      f, scratch):
+def body_hydro_forces(I_A, drag_linear, drag_angular, cylinder, fossen, shapes, is_vehicle, mass, com, fluid_mass,
+                      cob, v, vc, af, g, f, scratch):
     """The four named forces on one body at velocity ``v`` (body axes), into the rows of ``f``:
     ``f[0]`` added-mass velocity and fluid-acceleration terms (Eq. 2), ``f[1]`` drag (Eqs. 3-6), ``f[2]``
     buoyancy and fluid acceleration (Eqs. 7-8), ``f[3]`` gravity. ``scratch[0]`` returns ``nu_r``;
     ``cylinder`` is the link's row of :attr:`~uvms.dynamics.kernel_model.KernelModel.cylinder`; for a
     cylinder not along the body x axis from the origin, Eq. 6 is evaluated in the cylinder's frame (in
-    ``scratch[2]``, ``scratch[3]``) and moved back to the body origin.
+    ``scratch[2]``, ``scratch[3]``) and moved back to the body origin. ``fossen`` is the body's row of
+    :attr:`~uvms.dynamics.kernel_model.KernelModel.fossen`: a body with Fossen damping adds
+    :func:`~uvms.hydro.fossen.fossen_damping_force` to its drag (bodies without skip it, so the paper model's
+    arithmetic is unchanged). ``shapes`` is the body's shape drag table (:func:`uvms.hydro.shapes.drag_table`,
+    ``fossen[12, 4]`` real rows): a body with shapes adds :func:`~uvms.hydro.shapes.shapes_drag_force`, with
+    ``scratch[4:6]`` as its work array.
 
     Takes the body's own arrays (not the whole model) so the call stays cheap inside the compiled loop.
     """
@@ -126,6 +133,19 @@ def body_hydro_forces(I_A, drag_linear, drag_angular, cylinder, is_vehicle, mass
         fl[0] += cyl_o[1] * fl[5] - cyl_o[2] * fl[4]
         fl[1] += cyl_o[2] * fl[3] - cyl_o[0] * fl[5]
         fl[2] += cyl_o[0] * fl[4] - cyl_o[1] * fl[3]
+    if fossen[12, 3] != 0.0:
+        f_d = scratch[2]
+        fossen_damping_force(fossen[0:6], fossen[6:12], fossen[12], nu_r, f_d)
+        fd = f[1]
+        for k in range(6):
+            fd[k] += f_d[k]
+    n_shapes = int(fossen[12, 4])
+    if n_shapes > 0:
+        f_s = scratch[2]
+        shapes_drag_force(shapes[0:n_shapes], nu_r, f_s, scratch[4:6].reshape(12))
+        fd = f[1]
+        for k in range(6):
+            fd[k] += f_s[k]
     buoyancy_force(fluid_mass, cob, g, af, f[2])
     gravity_force(mass, com, g, f[3])
 
@@ -141,7 +161,7 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
     nb = km.parent.shape[0]
     h = ws.w6[0]
     f = ws.f4
-    scratch = ws.w6[1:5]
+    scratch = ws.w6[1:7]
     for i in range(nb):
         vi = ws.v[i]
         if i == 0:                               # world vectors in vehicle axes: R^T a_g, R^T v_c, R^T a_f
@@ -182,9 +202,9 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
         for k in range(6):
             pA[k] = 0.0
         crf_mul_add(vi, h, 1.0, pA)
-        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i], i == 0,
-                          km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], vi, ws.vc[i], ws.af[i], ws.g[i], f,
-                          scratch)
+        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i],
+                          km.fossen[i], km.shapes[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i],
+                          vi, ws.vc[i], ws.af[i], ws.g[i], f, scratch)
         for k in range(6):
             pA[k] -= f[0, k] + f[1, k] + f[2, k] + f[3, k]
         IA = ws.IA[i]

@@ -75,13 +75,13 @@ def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None,
     out = {c: np.zeros((nb, 6)) for c in CAUSES}
     rel = np.zeros((nb, 6))
     f = np.zeros((4, 6))
-    scratch = np.zeros((4, 6))
+    scratch = np.zeros((6, 6))
     zero3 = np.zeros(3)
 
     def forces(i, af):
-        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i], i == 0,
-                          km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i], ws.v[i], ws.vc[i], af, ws.g[i], f,
-                          scratch)
+        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i],
+                          km.fossen[i], km.shapes[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i],
+                          ws.v[i], ws.vc[i], af, ws.g[i], f, scratch)
 
     for i in range(nb):
         # velocity terms alone (no fluid acceleration), then the fluid-acceleration part as the difference

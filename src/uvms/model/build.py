@@ -26,6 +26,54 @@ def _added_mass(body: VehicleSpec | LinkSpec, density: float) -> np.ndarray:
     return shift_spatial_inertia(I_A, np.array(body.com)) if spec.about == "com" else I_A
 
 
+def shape_objects(specs) -> list:
+    """:mod:`uvms.hydro.shapes` objects of schema shapes (``from_collision`` entries left out)."""
+    from uvms.hydro import shapes as hs
+    from uvms.model.schema import (
+        BoxShapeSpec,
+        CylinderShapeSpec,
+        EllipsoidShapeSpec,
+        SphereShapeSpec,
+    )
+
+    out = []
+    for s in specs:
+        if not isinstance(s, (SphereShapeSpec, BoxShapeSpec, CylinderShapeSpec, EllipsoidShapeSpec)):
+            continue
+        pose = {"rotation": s.rotation(), "position": np.array(s.position)}
+        if isinstance(s, SphereShapeSpec):
+            out.append(hs.Sphere(s.radius, s.drag_coefficient, **pose))
+        elif isinstance(s, BoxShapeSpec):
+            out.append(hs.Box(tuple(s.size), tuple(s.drag_coefficients), **pose))
+        elif isinstance(s, CylinderShapeSpec):
+            out.append(hs.Cylinder(s.radius, s.length, s.drag_coefficient, s.axial_drag_coefficient, **pose))
+        elif isinstance(s, EllipsoidShapeSpec):
+            out.append(hs.Ellipsoid(tuple(s.semi_axes), s.drag_coefficient, s.axial_drag_coefficient, **pose))
+    return out
+
+
+def shape_drag_tables(shapes_per_body: list[list]) -> np.ndarray:
+    """``(nb, k, DRAG_ROW)`` drag tables of the bodies' shapes **per unit fluid density** (the kernel model
+    multiplies the coefficient columns by ``Model.density``, so a density override applies to them), padded
+    with zero rows (the count of real rows is ``Model.shape_count``)."""
+    from uvms.hydro.shapes import DRAG_ROW, drag_table
+
+    k = max([len(s) for s in shapes_per_body] + [0])
+    out = np.zeros((len(shapes_per_body), k, DRAG_ROW))
+    for i, shapes in enumerate(shapes_per_body):
+        if shapes:
+            out[i, :len(shapes)] = drag_table(shapes, 1.0)
+    return out
+
+
+def _thrusters(spec: ModelSpec | UrdfModelSpec, source: str | None) -> tuple:
+    """The thrusters of a model file; a table thruster's CSV is read beside the file."""
+    from pathlib import Path
+
+    base = Path(source).parent if source is not None else None
+    return tuple(thruster_from_spec(t, i, base=base, source=source) for i, t in enumerate(spec.thrusters))
+
+
 def _joints(arm: ArmSpec | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Per-joint ``(rotation, position, theta_offset)`` and the end-effector pose, from modified-DH rows."""
     if arm is None:
@@ -54,6 +102,8 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
     inertia = np.array([inertia_com(b.mass, b.com, b.inertia) for b in bodies])
     added_mass = np.array([_added_mass(b, env.density) for b in bodies])
     check_joint_axis_inertia(mass, com, inertia, added_mass, source=source, where=lambda j: f"arm.links[{j}].inertia")
+    damping = [(b.damping.matrices(), b.damping.about) if b.damping is not None else None for b in bodies]
+    shapes = [shape_objects(b.shapes) for b in bodies]
     return Model(
         name=spec.name,
         source=source,
@@ -81,7 +131,12 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         gravity=np.array(env.gravity),
         current=np.array(env.current),
         fluid_acceleration=np.array(env.fluid_acceleration),
-        thrusters=tuple(thruster_from_spec(t, i) for i, t in enumerate(spec.thrusters)),
+        thrusters=_thrusters(spec, source),
+        damping_linear=np.array([d[0][0] if d else np.zeros((6, 6)) for d in damping]),
+        damping_quadratic=np.array([d[0][1] if d else np.zeros((6, 6)) for d in damping]),
+        damping_point=np.array([d[1] if d else (0.0, 0.0, 0.0) for d in damping]).reshape(-1, 3),
+        shape_drag=shape_drag_tables(shapes),
+        shape_count=np.array([len(x) for x in shapes]),
     )
 
 
@@ -93,6 +148,18 @@ def _cylinder_rotation(axis) -> np.ndarray:
     y = helper - (helper @ x) * x
     y /= np.linalg.norm(y)
     return np.column_stack([x, y, np.cross(x, y)])
+
+
+def _shapes_into(hydro, spec) -> None:
+    """A link's (or the vehicle's) shapes into its :class:`~uvms.model.urdf.LinkHydro`; explicit added mass and
+    buoyancy override the shapes' (``docs/models.md``, "Shapes")."""
+    from uvms.model.schema import FromCollisionSpec
+
+    hydro.shapes = shape_objects(spec.shapes)
+    collision = [s for s in spec.shapes if isinstance(s, FromCollisionSpec)]
+    hydro.from_collision = collision[0].drag_coefficient if collision else None
+    hydro.explicit_added_mass = spec.added_mass is not None
+    hydro.explicit_buoyancy = spec.buoyancy is not None
 
 
 def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
@@ -117,6 +184,9 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
         if link.buoyancy is not None:
             hydro.fluid_mass = link.buoyancy.fluid_mass(rho)
             hydro.center = np.array(link.buoyancy.center)
+        if link.damping is not None:
+            hydro.damping = (*link.damping.matrices(), np.array(link.damping.about))
+        _shapes_into(hydro, link)
         links[name] = hydro
     vehicle = spec.vehicle
     vehicle_hydro = LinkHydro()
@@ -125,6 +195,9 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
     if vehicle.buoyancy is not None:
         vehicle_hydro.fluid_mass = vehicle.buoyancy.fluid_mass(rho)
         vehicle_hydro.center = np.array(vehicle.buoyancy.center)
+    if vehicle.damping is not None:
+        vehicle_hydro.damping = (*vehicle.damping.matrices(), np.array(vehicle.damping.about))
+    _shapes_into(vehicle_hydro, vehicle)
     drag = vehicle.drag
     extras = VehicleExtras(
         name=spec.name, density=rho, gravity=env.gravity, current=env.current,
@@ -136,6 +209,6 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
         vehicle_box=vehicle.box, vehicle_hydro=vehicle_hydro, links=links,
         joints={name: {k: v for k, v in j.model_dump().items() if v is not None} for name, j in spec.joints.items()},
         end_effector=spec.end_effector, fixed_joints=spec.fixed_joints,
-        thrusters=tuple(thruster_from_spec(t, i) for i, t in enumerate(spec.thrusters)), source=source,
+        thrusters=_thrusters(spec, source), source=source,
     )
     return model_from_urdf(urdf_path, extras)

@@ -100,6 +100,15 @@ class Model:
             column; identity for DH links).
         link_cylinder_origin: (n, 3) where the cylinder starts, link frame [m] (zero for DH links).
         ee_body: body the end effector is fixed in (the last body by default).
+        damping_linear: (nb, 6, 6) Fossen's linear damping ``D_l`` of each body, ``[angular; linear]`` matrix
+            entries [N s/m, N m s/rad, N s, N m s/m] (zero by default; ``docs/models.md``, "Fossen damping").
+        damping_quadratic: (nb, 6, 6) Fossen's quadratic damping ``D_q`` [N s^2/m^2, N m s^2/rad^2, ...].
+        shape_drag: (nb, k, DRAG_ROW) drag table rows of each body's hydrodynamic shapes
+            (:func:`uvms.hydro.shapes.drag_table` at unit density, body frame; the kernels multiply the
+            coefficients by ``density``), padded with zero rows; ``k`` may be 0.
+        shape_count: (nb,) number of real rows of ``shape_drag`` per body (0: no shape drag).
+        damping_point: (nb, 3) point the damping coefficients hold about, body frame [m]: the force is
+            ``-(D_l + D_q diag|nu_p|) nu_p`` with ``nu_p`` that point's velocity relative to the fluid.
         frames: named frames (:class:`Frame`); by default one per body (its own frame) and the end effector.
     """
 
@@ -142,6 +151,11 @@ class Model:
     link_cylinder_origin: Any = None
     ee_body: int | None = None
     frames: tuple[Frame, ...] | None = None
+    damping_linear: Any = None
+    damping_quadratic: Any = None
+    damping_point: Any = None
+    shape_drag: Any = None
+    shape_count: Any = None
     kernel: Any = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -158,6 +172,11 @@ class Model:
             "link_cylinder_rotation": np.tile(np.eye(3), (n, 1, 1)),
             "link_cylinder_origin": np.zeros((n, 3)),
             "ee_body": n,
+            "damping_linear": np.zeros((n + 1, 6, 6)),
+            "damping_quadratic": np.zeros((n + 1, 6, 6)),
+            "damping_point": np.zeros((n + 1, 3)),
+            "shape_drag": np.zeros((n + 1, 0, 19)),
+            "shape_count": np.zeros(n + 1, dtype=np.int64),
         }
         for name, value in defaults.items():
             if getattr(self, name) is None:
@@ -176,8 +195,9 @@ class Model:
                      "link_drag_coefficient", "joint_rotation", "joint_position", "theta_offset", "ee_rotation",
                      "ee_position", "gravity", "current", "fluid_acceleration", "joint_axis", "joint_damping",
                      "joint_friction", "joint_friction_speed", "joint_limits", "link_cylinder_rotation",
-                     "link_cylinder_origin"):
+                     "link_cylinder_origin", "damping_linear", "damping_quadratic", "damping_point", "shape_drag"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
+        object.__setattr__(self, "shape_count", _frozen(np.reshape(self.shape_count, n + 1), dtype=np.int64))
         self._check_tree(n)
         object.__setattr__(self, "vehicle_rotational_drag_side", float(self.vehicle_rotational_drag_side))
         object.__setattr__(self, "vehicle_rotational_drag_coefficient",
@@ -276,6 +296,9 @@ class Model:
             changes["vehicle_drag_coefficient"] = np.zeros(3)
             changes["vehicle_rotational_drag_coefficient"] = 0.0
             changes["link_drag_coefficient"] = np.zeros_like(self.link_drag_coefficient)
+            changes["damping_linear"] = np.zeros_like(self.damping_linear)
+            changes["damping_quadratic"] = np.zeros_like(self.damping_quadratic)
+            changes["shape_drag"] = _scale_shape_drag(self.shape_drag, 0.0)
         if not buoyancy:
             changes["buoyancy_mass"] = np.zeros_like(self.buoyancy_mass)
         if not gravity:
@@ -300,6 +323,9 @@ class Model:
             vehicle_drag_coefficient=self.vehicle_drag_coefficient * drag,
             vehicle_rotational_drag_coefficient=self.vehicle_rotational_drag_coefficient * drag,
             link_drag_coefficient=self.link_drag_coefficient * drag,
+            damping_linear=self.damping_linear * drag,
+            damping_quadratic=self.damping_quadratic * drag,
+            shape_drag=_scale_shape_drag(self.shape_drag, drag),
         )
 
     def vehicle_only(self) -> "Model":
@@ -315,7 +341,9 @@ class Model:
             link_drag_coefficient=np.zeros(0), joint_rotation=np.zeros((0, 3, 3)), joint_position=np.zeros((0, 3)),
             theta_offset=np.zeros(0), ee_rotation=np.eye(3), ee_position=np.zeros(3), density=self.density,
             gravity=self.gravity, current=self.current, fluid_acceleration=self.fluid_acceleration,
-            thrusters=self.thrusters,
+            thrusters=self.thrusters, damping_linear=self.damping_linear[:1],
+            damping_quadratic=self.damping_quadratic[:1], damping_point=self.damping_point[:1],
+            shape_drag=self.shape_drag[:1], shape_count=self.shape_count[:1],
         )
 
     # -- short summaries for the console and notebooks (not kilobytes of arrays)
@@ -340,7 +368,16 @@ class Model:
 
 _TREE_FIELDS = ("joint_names", "joint_parent", "joint_type", "joint_axis", "joint_damping", "joint_friction",
                 "joint_friction_speed", "joint_limits", "link_cylinder_rotation", "link_cylinder_origin", "ee_body",
-                "frames")
+                "frames", "damping_linear", "damping_quadratic", "damping_point", "shape_drag", "shape_count")
+
+def _scale_shape_drag(table: np.ndarray, factor: float) -> np.ndarray:
+    """A copy of shape drag tables with the drag coefficients (columns ``COL_COEFFICIENTS..``) scaled."""
+    from uvms.hydro.shapes import COL_COEFFICIENTS
+
+    out = np.array(table, dtype=float)
+    out[..., COL_COEFFICIENTS:] *= factor
+    return out
+
 
 DEFAULT_FRICTION_SPEED = 0.01
 """Default regularisation speed ``v_s`` of the joint Coulomb friction [rad/s or m/s] (``docs/models.md``)."""

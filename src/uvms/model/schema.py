@@ -195,7 +195,8 @@ def _from_geometry(value: Any) -> Any:
     return value
 
 
-UNION_TAGS = ("string", "mapping")
+SHAPE_TYPES = ("sphere", "box", "cylinder", "ellipsoid", "from_collision")
+UNION_TAGS = ("string", "mapping", *(f"shape:{t}" for t in SHAPE_TYPES), "shape:unknown")
 """Tags of tagged unions; :func:`uvms.model.load.format_validation_error` leaves them out of field paths."""
 
 LinkAddedMass = Annotated[
@@ -249,6 +250,192 @@ class VehicleDragSpec(Spec):
     rotational: RotationalDragSpec
 
 
+def _six_or_matrix(value: Any) -> Any:
+    """6 values (a diagonal) or a 6x6 matrix, as a 6x6 tuple of rows."""
+    if isinstance(value, (list, tuple)) and len(value) == 6 and all(_is_number(x) for x in value):
+        return tuple(tuple(float(value[i]) if i == j else 0.0 for j in range(6)) for i in range(6))
+    if isinstance(value, (list, tuple)) and len(value) == 6 and all(
+            isinstance(row, (list, tuple)) and len(row) == 6 and all(_is_number(x) for x in row) for row in value):
+        return tuple(tuple(float(x) for x in row) for row in value)
+    raise fail(f"expected 6 finite numbers (a diagonal) or a 6x6 matrix, found {show(value)}")
+
+
+SixOrMatrix = Annotated[tuple[tuple[float, ...], ...], BeforeValidator(_six_or_matrix)]
+
+
+class FossenDampingSpec(Spec):
+    """Fossen's linear and quadratic damping of a body (Fossen 2021, hydrodynamic damping):
+    ``f = -(D_l + D_q diag|nu_p|) nu_p`` with ``nu_p`` the velocity relative to the fluid of the point ``about``.
+
+    Either ``coefficients`` (SNAME names such as ``X_u``, ``X_u|u|``, ``N_r``; :mod:`uvms.hydro.fossen`), read
+    with ``convention`` (``derivative``: the printed value is the derivative, dissipative values negative;
+    ``magnitude``: the value is the matrix entry), or ``linear`` / ``quadratic`` given as matrix entries in
+    uvms's ``[angular; linear]`` order (6 diagonal values or a 6x6 matrix). Units: linear ``[N s/m]``,
+    ``[N m s/rad]`` (and mixed ``[N s]``, ``[N m s/m]``); quadratic ``[N s^2/m^2]``, ``[N m s^2/rad^2]``.
+    The symmetric part of each matrix must be positive semi-definite (dissipative).
+    """
+
+    about: Vec3 = ZERO3                           # point the coefficients hold about, body frame [m]
+    convention: Literal["derivative", "magnitude"] = "derivative"
+    coefficients: dict[Name, Number] | None = None
+    linear: SixOrMatrix | None = None
+    quadratic: SixOrMatrix | None = None
+
+    @model_validator(mode="after")
+    def _physical(self) -> FossenDampingSpec:
+        if self.coefficients is not None and (self.linear is not None or self.quadratic is not None):
+            raise fail("expected either 'coefficients' (SNAME names) or 'linear'/'quadratic' (matrices), "
+                       "found both")
+        if self.coefficients is None and self.linear is None and self.quadratic is None:
+            raise fail("expected 'coefficients' or 'linear'/'quadratic', found none")
+        D_l, D_q = self.matrices()
+        for name, D in (("linear", D_l), ("quadratic", D_q)):
+            sub = "coefficients" if self.coefficients is not None else name
+            eig = np.linalg.eigvalsh(0.5 * (D + D.T))
+            tol = RELATIVE_TOLERANCE * max(float(np.abs(D).max()), 1e-300)
+            if eig[0] < -tol:
+                raise fail(f"expected a dissipative {name} damping matrix (symmetric part positive "
+                           f"semi-definite), found eigenvalues [{', '.join(f'{e:.6g}' for e in eig)}]"
+                           + (" (SNAME derivatives of a dissipative body are negative; or give "
+                              "convention: magnitude)" if self.coefficients is not None else ""), sub)
+        return self
+
+    def matrices(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(D_l, D_q)``, 6x6 ``[angular; linear]`` matrix entries."""
+        from uvms.hydro.fossen import damping_matrices, sname_index
+
+        if self.coefficients is not None:
+            for name in self.coefficients:
+                try:
+                    sname_index(name)
+                except ValueError as exc:
+                    raise fail(str(exc), f"coefficients.{name}") from None
+            try:
+                return damping_matrices(self.coefficients, convention=self.convention)
+            except Exception as exc:  # a duplicate name (X_u|u| and X_|u|u)
+                raise fail(getattr(exc, "message", str(exc)), "coefficients") from None
+        zero = np.zeros((6, 6))
+        return (np.array(self.linear) if self.linear is not None else zero,
+                np.array(self.quadratic) if self.quadratic is not None else zero)
+
+
+PositiveVec3 = Annotated[tuple[float, float, float], _vector(3, minimum=0.0)]
+
+
+class _ShapeSpec(Spec):
+    """A hydrodynamic shape posed in its body's frame (:mod:`uvms.hydro.shapes`): gives buoyancy (volume and
+    centre), added mass (summed over the body's shapes) and quadratic drag. ``position`` is the shape's centre
+    [m] and ``rotation_rpy`` its orientation ``Rz(yaw) Ry(pitch) Rx(roll)`` [rad], body frame."""
+
+    position: Vec3 = ZERO3
+    rotation_rpy: Vec3 = ZERO3
+
+    def _positive(self, names: tuple[str, ...]) -> None:
+        for name in names:
+            value = getattr(self, name)
+            values = value if isinstance(value, tuple) else (value,)
+            if not all(v > 0 for v in values):
+                found = show(list(values) if len(values) > 1 else values[0])
+                raise fail(f"expected positive dimensions [m], found {found}", name)
+
+    def rotation(self) -> np.ndarray:
+        from uvms.rotations import rotation_from_euler
+
+        return rotation_from_euler(np.array(self.rotation_rpy))
+
+
+class SphereShapeSpec(_ShapeSpec):
+    """A sphere of ``radius`` [m]; ``drag_coefficient`` [-] on its frontal area ``pi a^2``."""
+
+    type: Literal["sphere"]
+    radius: Number
+    drag_coefficient: NonNegative = 0.0
+
+    @model_validator(mode="after")
+    def _dims(self) -> SphereShapeSpec:
+        self._positive(("radius",))
+        return self
+
+
+class BoxShapeSpec(_ShapeSpec):
+    """A box of edges ``size`` [m] (shape x, y, z); ``drag_coefficients`` [-] per face family."""
+
+    type: Literal["box"]
+    size: Vec3
+    drag_coefficients: NonNegativeVec3 = ZERO3
+
+    @model_validator(mode="after")
+    def _dims(self) -> BoxShapeSpec:
+        self._positive(("size",))
+        return self
+
+
+class CylinderShapeSpec(_ShapeSpec):
+    """A solid cylinder of ``radius`` and ``length`` [m] along the shape x axis, centred on ``position``;
+    cross-flow ``drag_coefficient`` (Eq. 6) and end-on ``axial_drag_coefficient`` [-]."""
+
+    type: Literal["cylinder"]
+    radius: Number
+    length: Number
+    drag_coefficient: NonNegative = 0.0
+    axial_drag_coefficient: NonNegative = 0.0
+
+    @model_validator(mode="after")
+    def _dims(self) -> CylinderShapeSpec:
+        self._positive(("radius", "length"))
+        return self
+
+
+class EllipsoidShapeSpec(_ShapeSpec):
+    """An ellipsoid of ``semi_axes`` [m]; cross-flow and axial drag coefficients [-] (along shape x)."""
+
+    type: Literal["ellipsoid"]
+    semi_axes: Vec3
+    drag_coefficient: NonNegative = 0.0
+    axial_drag_coefficient: NonNegative = 0.0
+
+    @model_validator(mode="after")
+    def _dims(self) -> EllipsoidShapeSpec:
+        self._positive(("semi_axes",))
+        return self
+
+
+class FromCollisionSpec(Spec):
+    """The URDF link's ``<collision>`` primitives (box, cylinder, sphere) as shapes, each with this drag
+    coefficient [-] (a box on every face, a cylinder across its axis); meshes are skipped with a warning."""
+
+    type: Literal["from_collision"]
+    drag_coefficient: NonNegative = 0.0
+
+
+def _shape_type(value: Any) -> str:
+    kind = value.get("type") if isinstance(value, dict) else None
+    return f"shape:{kind}" if kind in SHAPE_TYPES else "shape:unknown"
+
+
+def _unknown_shape(value: Any) -> Any:
+    kind = value.get("type") if isinstance(value, dict) else value
+    raise fail(f"expected a shape with type sphere, box, cylinder, ellipsoid or from_collision, found "
+               f"{show(kind)}")
+
+
+ShapeSpec = Annotated[
+    Annotated[SphereShapeSpec, Tag("shape:sphere")] | Annotated[BoxShapeSpec, Tag("shape:box")]
+    | Annotated[CylinderShapeSpec, Tag("shape:cylinder")] | Annotated[EllipsoidShapeSpec, Tag("shape:ellipsoid")]
+    | Annotated[FromCollisionSpec, Tag("shape:from_collision")]
+    | Annotated[Any, BeforeValidator(_unknown_shape), Tag("shape:unknown")],
+    Discriminator(_shape_type),
+]
+
+
+def _no_collision(shapes: tuple) -> tuple:
+    for k, shape in enumerate(shapes):
+        if isinstance(shape, FromCollisionSpec):
+            raise fail(f"entry {k} is from_collision, which reads a URDF link's collision primitives: use it in "
+                       "a URDF model's additions")
+    return shapes
+
+
 class VehicleSpec(_BodySpec):
     """The vehicle (body 0; paper appendix, "URV Parameters")."""
 
@@ -257,6 +444,10 @@ class VehicleSpec(_BodySpec):
     added_mass: VehicleAddedMassSpec
     drag: VehicleDragSpec
     box: NonNegativeVec3                          # box dimensions [m]
+    damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping (added to ``drag``)
+    shapes: tuple[ShapeSpec, ...] = ()            # buoyancy, added mass and drag of shapes (added to ``drag``)
+
+    _shapes_here = field_validator("shapes")(classmethod(lambda cls, v: _no_collision(v)))
 
 
 class DHSpec(Spec):
@@ -285,6 +476,10 @@ class LinkSpec(_BodySpec):
     drag_coefficient: NonNegative                 # normal-flow Cd [-] (Eq. 6)
     buoyancy: BuoyancySpec
     added_mass: LinkAddedMass                     # or "from_geometry" (strip theory for the cylinder)
+    damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping (added to Eq. 6)
+    shapes: tuple[ShapeSpec, ...] = ()            # buoyancy, added mass and drag of shapes (added to Eq. 6)
+
+    _shapes_here = field_validator("shapes")(classmethod(lambda cls, v: _no_collision(v)))
 
 
 class MountSpec(Spec):
@@ -316,15 +511,43 @@ class ArmSpec(Spec):
         return links
 
 
+class ThrustTableSpec(Spec):
+    """A thrust table typed into the model file: commands (strictly increasing, any unit) and the steady
+    thrust at each, in newtons (``thrust_N``) or kilogram-force (``thrust_kgf``)."""
+
+    command: tuple[Number, ...]
+    thrust_N: tuple[Number, ...] | None = None    # [N]
+    thrust_kgf: tuple[Number, ...] | None = None  # [kgf] (x 9.80665 N)
+
+    @model_validator(mode="after")
+    def _one_form(self) -> ThrustTableSpec:
+        if (self.thrust_N is None) == (self.thrust_kgf is None):
+            found = "both" if self.thrust_N is not None else "neither"
+            raise fail(f"expected exactly one of 'thrust_N' or 'thrust_kgf', found {found}")
+        return self
+
+
 class ThrusterSpec(Spec):
-    """A thruster (validated loosely for now; Eqs. 9-12)."""
+    """A thruster (Eqs. 9-12); ``model: table`` takes its steady thrust from a datasheet table
+    (:mod:`uvms.thrusters.table`): ``table`` is ``t200`` (bundled Blue Robotics T200 at 16 V), a CSV file
+    beside the model file, or an inline :class:`ThrustTableSpec`."""
 
     name: Name
     position: Vec3                                # r_h, body frame [m]
     direction: Vec3                               # e_h, body frame (non-zero; normalised when used)
-    model: Literal["healey", "first_order", "ideal"]
+    model: Literal["healey", "first_order", "ideal", "table"]
     parameters: dict[str, Number] | None = None
     max_thrust: Positive | None = None            # [N]
+    table: Name | ThrustTableSpec | None = None   # model: table only
+
+    @model_validator(mode="after")
+    def _table(self) -> ThrusterSpec:
+        if self.model == "table" and self.table is None:
+            raise fail("expected a 'table' (t200, a CSV file name, or {command, thrust_N}) for model: table, "
+                       "found none")
+        if self.model != "table" and self.table is not None:
+            raise fail(f"a 'table' is only read for model: table, found model: {self.model}", "table")
+        return self
 
     @field_validator("direction")
     @classmethod
@@ -420,6 +643,8 @@ class UrdfLinkSpec(Spec):
     added_mass: UrdfLinkAddedMass | None = None   # or "from_geometry" (strip theory for the cylinder)
     buoyancy: FluidVolumeSpec | None = None
     cylinder: LinkCylinderSpec | None = None
+    damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping, link frame
+    shapes: tuple[ShapeSpec, ...] = ()            # shapes in the link frame, or from_collision
 
     @model_validator(mode="after")
     def _geometry(self) -> UrdfLinkSpec:
@@ -434,6 +659,8 @@ class UrdfVehicleSpec(Spec):
     added_mass: OriginAddedMassSpec | None = None
     buoyancy: FluidVolumeSpec | None = None
     drag: VehicleDragSpec | None = None
+    damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping, vehicle frame
+    shapes: tuple[ShapeSpec, ...] = ()            # shapes in the vehicle (root link) frame, or from_collision
     box: NonNegativeVec3 = ZERO3                  # box dimensions [m] (plots)
 
 

@@ -135,6 +135,16 @@ class LinkHydro:
     center: np.ndarray = field(default_factory=lambda: np.zeros(3))
     cylinder: tuple[np.ndarray, np.ndarray, float, float, float] | None = None
     """``(rotation with x along the axis, origin, radius, length, drag coefficient)``, link frame."""
+    damping: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    """Fossen damping ``(D_l, D_q, point)``, link axes, the point in the link frame."""
+    shapes: list = field(default_factory=list)
+    """:mod:`uvms.hydro.shapes` shapes posed in the link frame."""
+    from_collision: float | None = None
+    """Drag coefficient of the link's collision primitives taken as shapes, or ``None`` (not taken)."""
+    explicit_added_mass: bool = False
+    explicit_buoyancy: bool = False
+    density: float = 1000.0
+    """Whether ``added_mass`` / ``fluid_mass`` were given: they then override the shapes'."""
 
 
 @dataclass
@@ -176,6 +186,9 @@ class _Body:
     fluid_moment: np.ndarray = field(default_factory=lambda: np.zeros(3))   # sum of m_f * centre
     cylinder: tuple | None = None
     cylinder_link: str | None = None
+    damping: tuple | None = None            # Fossen (D_l, D_q, point), body axes and frame
+    shapes: list = field(default_factory=list)   # hydrodynamic shapes posed in the body frame
+    damping_link: str | None = None
 
 
 def _tree(robot, source: str):
@@ -317,7 +330,8 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
         body.inertia = body.inertia + _to_body(_link_inertia(links[name], source), R, p)
         hydro = extras.links.get(name)
         if hydro is not None:
-            _merge_hydro(body, hydro, name, R, p, b, root, source, extras.source)
+            hydro.density = extras.density
+            _merge_hydro(body, hydro, name, R, p, b, root, source, extras.source, links[name])
         pending = []
         for joint in children[name]:
             axis = _check_joint(joint, source, extras.fixed_joints)
@@ -329,16 +343,67 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
                                 (joint, b, R @ R_o, p + R @ p_o, axis)))
         stack.extend(reversed(pending))
     if extras.vehicle_hydro is not None:
-        _merge_hydro(bodies[0], extras.vehicle_hydro, root, np.eye(3), np.zeros(3), 0, root, source, extras.source)
+        extras.vehicle_hydro.density = extras.density
+        _merge_hydro(bodies[0], extras.vehicle_hydro, root, np.eye(3), np.zeros(3), 0, root, source, extras.source,
+                     links[root])
     return _assemble(bodies, axes, frames, extras, robot.name, source)
 
 
+def collision_shapes(link, drag_coefficient: float, source: str | None = None) -> list:
+    """The box, cylinder and sphere ``<collision>`` primitives of a yourdfpy link as :mod:`uvms.hydro.shapes`
+    shapes in the link frame, each with ``drag_coefficient`` (a URDF cylinder runs along its z axis, a shape
+    cylinder along its x: the shape frame is turned so). Meshes are skipped with a warning."""
+    from uvms.hydro import shapes as hs
+
+    out = []
+    to_x = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])   # columns: shape x, y, z = URDF z, x, y
+    for item in link.collisions or []:
+        R, p = _pose(item.origin)
+        g = item.geometry
+        try:
+            if g.box is not None:
+                out.append(hs.Box(tuple(float(x) for x in g.box.size), (drag_coefficient,) * 3, rotation=R, position=p))
+            elif g.cylinder is not None:
+                out.append(hs.Cylinder(float(g.cylinder.radius), float(g.cylinder.length), drag_coefficient,
+                                       rotation=R @ to_x, position=p))
+            elif g.sphere is not None:
+                out.append(hs.Sphere(float(g.sphere.radius), drag_coefficient, rotation=R, position=p))
+            else:
+                warnings.warn(f"{source}: link {link.name!r}: collision mesh skipped by from_collision (only box, "
+                              "cylinder and sphere are shapes)", stacklevel=2)
+        except ValueError as exc:
+            raise UvmsInputError(f"collision primitive: {exc}", source, f"link {link.name!r}") from None
+    return out
+
+
 def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.ndarray, b: int, root: str,
-                 source: str, extras_source: str | None) -> None:
-    """Add a link's hydrodynamics (link frame) to the body that carries it (pose ``(R, p)`` in the body)."""
-    body.added_mass = body.added_mass + _to_body(hydro.added_mass, R, p)
-    body.fluid_mass += hydro.fluid_mass
-    body.fluid_moment = body.fluid_moment + hydro.fluid_mass * (p + R @ hydro.center)
+                 source: str, extras_source: str | None, urdf_link=None) -> None:
+    """Add a link's hydrodynamics (link frame) to the body that carries it (pose ``(R, p)`` in the body).
+
+    Shapes (and ``from_collision`` primitives of ``urdf_link``) add their volume at their centre and their
+    added mass unless the link gives those explicitly, and their drag table rows to the body's.
+    """
+    from dataclasses import replace
+
+    from uvms.hydro.shapes import added_mass as shape_added_mass
+    from uvms.hydro.shapes import volume
+
+    shapes = list(hydro.shapes)
+    if hydro.from_collision is not None and urdf_link is not None:
+        shapes += collision_shapes(urdf_link, hydro.from_collision, source)
+    added, fluid_mass, center = hydro.added_mass, hydro.fluid_mass, hydro.center
+    if shapes:
+        if not hydro.explicit_added_mass:
+            added = sum(shape_added_mass(s, hydro.density) for s in shapes)
+        if not hydro.explicit_buoyancy:
+            vols = np.array([volume(s) for s in shapes])
+            fluid_mass = float(hydro.density * vols.sum())
+            center = (vols[:, None] * np.array([s.position for s in shapes])).sum(axis=0) / vols.sum()
+        body.shapes = body.shapes + [replace(s, rotation=R @ s.rotation, position=p + R @ s.position)
+                                     for s in shapes]
+    body.added_mass = body.added_mass + _to_body(added, R, p)
+    body.fluid_mass += fluid_mass
+    body.fluid_moment = body.fluid_moment + fluid_mass * (p + R @ center)
     if hydro.cylinder is not None:
         where = f"links.{link}.cylinder"
         if b == 0:
@@ -350,10 +415,27 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.
         C, o, radius, length, cd = hydro.cylinder
         body.cylinder = (R @ C, p + R @ o, radius, length, cd)
         body.cylinder_link = link
+    if hydro.damping is not None:
+        where = f"links.{link}.damping" if b != 0 or link != root else "vehicle.damping"
+        if body.damping is not None:
+            raise UvmsInputError(f"link {link!r} is fixed to link {body.damping_link!r}, which already has Fossen "
+                                 "damping: one damping table per moving body", extras_source, where)
+        D_l, D_q, point = hydro.damping
+        rotated = not np.allclose(R, np.eye(3), rtol=0.0, atol=1e-12)
+        if rotated and np.any(D_q):
+            raise UvmsInputError(f"link {link!r} is fixed to its body with a rotation: quadratic damping "
+                                 "(D_q diag|nu|) does not rotate into the body's axes; give it on the moving link",
+                                 extras_source, where)
+        B = np.zeros((6, 6))                 # link-to-body rotation of [angular; linear] vectors
+        B[:3, :3] = B[3:, 3:] = R
+        body.damping = (B @ D_l @ B.T, D_q, p + R @ point)
+        body.damping_link = link
 
 
 def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str) -> Model:
     """The :class:`Model` of the bodies (in tree order), their joints' axes and the frames."""
+    from uvms.model.build import shape_drag_tables
+
     nb = len(bodies)
     n = nb - 1
     mass = np.zeros(nb)
@@ -448,6 +530,11 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
         joint_axis=joint_axis, joint_damping=damping, joint_friction=friction, joint_friction_speed=speed,
         joint_limits=limits, link_cylinder_rotation=cyl_R, link_cylinder_origin=cyl_o, ee_body=ee.body,
         frames=tuple(frame_list),
+        damping_linear=np.array([b.damping[0] if b.damping else np.zeros((6, 6)) for b in bodies]),
+        damping_quadratic=np.array([b.damping[1] if b.damping else np.zeros((6, 6)) for b in bodies]),
+        damping_point=np.array([b.damping[2] if b.damping else np.zeros(3) for b in bodies]).reshape(nb, 3),
+        shape_drag=shape_drag_tables([b.shapes for b in bodies]),
+        shape_count=np.array([len(b.shapes) for b in bodies]),
     )
 
 

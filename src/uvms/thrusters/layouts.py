@@ -27,15 +27,26 @@ from uvms.thrusters.allocation import allocation_matrix
 from uvms.thrusters.first_order import FirstOrderParameters
 from uvms.thrusters.healey import HealeyParameters
 from uvms.thrusters.ideal import IdealParameters
+from uvms.thrusters.table import (
+    STANDARD_GRAVITY,
+    TableThrusterParameters,
+    load_thruster_table,
+    t200_table,
+)
 
-ThrusterKind = Literal["healey", "first_order", "ideal"]
-ThrusterParameters = HealeyParameters | FirstOrderParameters | IdealParameters
+ThrusterKind = Literal["healey", "first_order", "ideal", "table"]
+ThrusterParameters = HealeyParameters | FirstOrderParameters | IdealParameters | TableThrusterParameters
 
 _PARAMETER_TYPES: dict[str, type] = {
     "healey": HealeyParameters,
     "first_order": FirstOrderParameters,
     "ideal": IdealParameters,
+    "table": TableThrusterParameters,
 }
+TABLE_PARAMETERS = ("time_constant",)
+"""Parameters of a ``model: table`` thruster in a model file (the table itself is under ``table``)."""
+DEFAULT_TABLE_TIME_CONSTANT = 0.1
+"""Default lag ``tau`` [s] of a table thruster; datasheets do not give one (``docs/models.md``)."""
 
 DEFAULT_LAYOUT = "paper-sway"
 VEHICLE_SIDE = 0.596
@@ -50,7 +61,8 @@ class Thruster:
         name: label, unique within a layout.
         position: (3,) point of application in the vehicle frame, from the centre of mass [m].
         direction: (3,) unit thrust direction in the vehicle frame (normalised on construction).
-        model: ``"healey"``, ``"first_order"`` or ``"ideal"``.
+        model: ``"healey"``, ``"first_order"``, ``"ideal"`` or ``"table"`` (datasheet table, whose
+            parameters must be given).
         parameters: the model's parameters; ``None`` means the model's defaults.
     """
 
@@ -77,6 +89,9 @@ class Thruster:
         object.__setattr__(self, "direction", tuple(float(x) for x in direction / norm))
         expected = _PARAMETER_TYPES[self.model]
         if self.parameters is None:
+            if self.model == "table":
+                raise UvmsInputError("a 'table' thruster needs its TableThrusterParameters",
+                                     path=f"thrusters.{self.name}.parameters")
             object.__setattr__(self, "parameters", expected())
         elif not isinstance(self.parameters, expected):
             raise UvmsInputError(f"a {self.model!r} thruster needs {expected.__name__}, got "
@@ -84,9 +99,16 @@ class Thruster:
 
     @property
     def max_thrust(self) -> float:
-        """Largest steady thrust magnitude [N] (symmetric limits: the models are odd)."""
+        """Largest steady forward thrust [N] (the models but ``table`` are odd: symmetric limits)."""
         assert self.parameters is not None  # filled in by __post_init__
         return float(self.parameters.max_thrust)
+
+    @property
+    def min_thrust(self) -> float:
+        """Most negative steady thrust [N]: ``-max_thrust``, or a table's reverse end."""
+        if isinstance(self.parameters, TableThrusterParameters):
+            return self.parameters.min_thrust
+        return -self.max_thrust
 
 
 _LAYOUTS: dict[str, tuple[Thruster, ...]] = {
@@ -100,12 +122,56 @@ _LAYOUTS: dict[str, tuple[Thruster, ...]] = {
 _LAYOUTS["paper-sway"] = _LAYOUTS["paper"] + (Thruster("sway", (0.0, 0.0, 0.0), (0.0, 1.0, 0.0)),)
 
 
-def thruster_from_spec(spec, index: int = 0) -> Thruster:
+def _table_thruster(spec, index: int, base, source: str | None) -> Thruster:
+    """A ``model: table`` thruster: the bundled T200, a CSV beside the model file, or an inline table."""
+    from pathlib import Path
+
+    where = f"thrusters[{index}]"
+    values = dict(spec.parameters or {})
+    for key in values:
+        if key not in TABLE_PARAMETERS:
+            raise UvmsInputError(f"unknown table parameter; expected one of: {', '.join(TABLE_PARAMETERS)}",
+                                 source, f"{where}.parameters.{key}")
+    if spec.max_thrust is not None:
+        raise UvmsInputError("max_thrust follows from the table; remove it", source, f"{where}.max_thrust")
+    tau = values.get("time_constant", DEFAULT_TABLE_TIME_CONSTANT)
+    if not tau > 0:
+        raise UvmsInputError(f"expected a positive time constant [s], found {tau:g}", source,
+                             f"{where}.parameters.time_constant")
+    table = spec.table
+    if isinstance(table, str):
+        if table.lower() == "t200":
+            parameters = t200_table(tau)
+        else:
+            path = Path(table)
+            if not path.is_absolute() and base is not None:
+                path = Path(base) / path
+            if not path.exists():
+                raise UvmsInputError(f"no such thrust table file: {path} (or 't200' for the bundled T200)",
+                                     source, f"{where}.table")
+            parameters = load_thruster_table(path, time_constant=tau)  # errors name the CSV and its line
+    else:
+        thrust_name = "thrust_N" if table.thrust_N is not None else "thrust_kgf"
+        scale = 1.0 if table.thrust_N is not None else STANDARD_GRAVITY
+        thrust = [x * scale for x in (table.thrust_N if table.thrust_N is not None else table.thrust_kgf)]
+        try:
+            parameters = TableThrusterParameters(table.command, thrust, tau, source=source)
+        except UvmsInputError as exc:     # name the model file's field, not the table's column
+            field = thrust_name if exc.path == "thrust" else exc.path
+            raise UvmsInputError(exc.message, source, f"{where}.table.{field}") from None
+    return Thruster(spec.name, tuple(spec.position), tuple(spec.direction), "table", parameters)
+
+
+def thruster_from_spec(spec, index: int = 0, *, base=None, source: str | None = None) -> Thruster:
     """A :class:`Thruster` from a model file's thruster entry (``uvms.model.schema.ThrusterSpec``).
 
     ``parameters`` keys are the fields of the model's parameter class (``HealeyParameters`` etc.); for ideal
-    and first-order thrusters ``max_thrust`` may also be given at the entry's top level.
+    and first-order thrusters ``max_thrust`` may also be given at the entry's top level. A ``table`` thruster
+    takes ``time_constant`` [s] (default :data:`DEFAULT_TABLE_TIME_CONSTANT`) and reads its ``table``: a CSV
+    path is relative to ``base`` (the model file's folder).
     """
+    if spec.model == "table":
+        return _table_thruster(spec, index, base, source)
     cls = _PARAMETER_TYPES[spec.model]
     values = dict(spec.parameters or {})
     if spec.max_thrust is not None:
@@ -148,4 +214,5 @@ def layout_matrix(thrusters: tuple[Thruster, ...]) -> np.ndarray:
 def thrust_limits(thrusters: tuple[Thruster, ...]) -> tuple[np.ndarray, np.ndarray]:
     """``(lower, upper)`` (m,) steady thrust limits [N] of a layout, for :func:`~uvms.thrusters.allocation.allocate`."""
     upper = np.array([t.max_thrust for t in thrusters], dtype=float)
-    return -upper, upper
+    lower = np.array([t.min_thrust for t in thrusters], dtype=float)
+    return lower, upper
