@@ -16,6 +16,7 @@ from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import (
+    AfterValidator,
     BaseModel,
     BeforeValidator,
     ConfigDict,
@@ -563,6 +564,15 @@ def _unique(names: list[str], what: str) -> None:
         raise fail(f"expected unique {what} names, found {seen[0]!r} twice")
 
 
+def _unique_thrusters(thrusters: tuple[ThrusterSpec, ...]) -> tuple[ThrusterSpec, ...]:
+    _unique([t.name for t in thrusters], "thruster")
+    return thrusters
+
+
+Thrusters = Annotated[tuple[ThrusterSpec, ...], AfterValidator(_unique_thrusters)]
+"""A model's thruster list (DH or URDF route): names unique."""
+
+
 class ModelSpec(Spec):
     """A whole model file: environment, vehicle, optional arm and thrusters."""
 
@@ -571,13 +581,7 @@ class ModelSpec(Spec):
     environment: EnvironmentSpec = EnvironmentSpec()
     vehicle: VehicleSpec
     arm: ArmSpec | None = None
-    thrusters: tuple[ThrusterSpec, ...] = ()
-
-    @field_validator("thrusters")
-    @classmethod
-    def _thrusters(cls, thrusters: tuple[ThrusterSpec, ...]) -> tuple[ThrusterSpec, ...]:
-        _unique([t.name for t in thrusters], "thruster")
-        return thrusters
+    thrusters: Thrusters = ()
 
 
 # --- a URDF and its additions (docs/models.md, "URDF") ----------------------------------------------------
@@ -684,10 +688,4 @@ class UrdfModelSpec(Spec):
     joints: dict[Name, UrdfJointSpec] = {}
     fixed_joints: tuple[Name, ...] = ()           # frozen at zero (e.g. mimic joints)
     end_effector: Name | None = None              # a link (frame) name; default: the deepest link
-    thrusters: tuple[ThrusterSpec, ...] = ()
-
-    @field_validator("thrusters")
-    @classmethod
-    def _thrusters(cls, thrusters: tuple[ThrusterSpec, ...]) -> tuple[ThrusterSpec, ...]:
-        _unique([t.name for t in thrusters], "thruster")
-        return thrusters
+    thrusters: Thrusters = ()
