@@ -151,3 +151,44 @@ def test_damping_of_a_fixed_link_is_rotated_into_its_body(tmp_path):
     path.write_text(yaml.safe_dump(data))
     with pytest.raises(UvmsInputError, match="links.pod.damping"):
         uvms.load_model(path)
+
+
+def test_a_dh_model_takes_buoyancy_and_added_mass_from_its_shapes(tmp_path):
+    """DH route: a body without ``buoyancy``/``added_mass`` gets them from its shapes (a sphere: rho V at its
+    centre, rho V / 2 in every translation, moved to the body origin by the point-mass parallel-axis terms)."""
+    import copy
+    from importlib.resources import files
+
+    import yaml
+
+    data = yaml.safe_load((files("uvms.model") / "models" / "paper.yaml").read_text())
+    r, c = 0.2, np.array([0.05, 0.0, -0.01])
+    data = copy.deepcopy(data)
+    for key in ("buoyancy", "added_mass"):
+        del data["vehicle"][key]
+    data["vehicle"]["shapes"] = [{"type": "sphere", "radius": r, "drag_coefficient": 0.5, "position": c.tolist()}]
+    link = data["arm"]["links"][0]
+    del link["buoyancy"]
+    link["shapes"] = [{"type": "sphere", "radius": 0.02, "drag_coefficient": 0.5, "position": [0.1, 0.0, 0.0]}]
+    path = tmp_path / "shapes.yaml"
+    path.write_text(yaml.safe_dump(data))
+    model = uvms.load_model(path)
+    rho = model.density
+    V = 4.0 / 3.0 * np.pi * r**3
+    assert model.buoyancy_mass[0] == pytest.approx(rho * V, rel=1e-14)
+    np.testing.assert_allclose(model.cob[0], c, atol=1e-15)
+    m_a = rho * V / 2.0
+    cx = np.array([[0, -c[2], c[1]], [c[2], 0, -c[0]], [-c[1], c[0], 0]])
+    expected = np.zeros((6, 6))                        # a point added mass m_a at c, about the origin
+    expected[3:, 3:] = m_a * np.eye(3)
+    expected[:3, 3:] = m_a * cx
+    expected[3:, :3] = -m_a * cx
+    expected[:3, :3] = -m_a * cx @ cx
+    np.testing.assert_allclose(model.added_mass[0], expected, atol=1e-12)
+    assert model.buoyancy_mass[1] == pytest.approx(rho * 4.0 / 3.0 * np.pi * 0.02**3, rel=1e-14)
+    np.testing.assert_allclose(model.cob[1], [0.1, 0.0, 0.0], atol=1e-15)
+
+    del data["vehicle"]["shapes"]
+    path.write_text(yaml.safe_dump(data))
+    with pytest.raises(UvmsInputError, match=r"vehicle\.buoyancy: expected a value \(required field, unless"):
+        uvms.load_model(path)

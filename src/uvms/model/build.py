@@ -17,13 +17,29 @@ from uvms.thrusters.layouts import thruster_from_spec
 
 
 def _added_mass(body: VehicleSpec | LinkSpec, density: float) -> np.ndarray:
-    """6x6 ``I_A`` about the body-frame origin (Eq. 2); ``from_geometry`` uses cylinder strip theory."""
+    """6x6 ``I_A`` about the body-frame origin (Eq. 2); ``from_geometry`` uses cylinder strip theory; none given:
+    the sum of the body's shapes' added masses (:func:`uvms.hydro.shapes.total_added_mass`)."""
+    from uvms.hydro.shapes import total_added_mass
+
     spec = body.added_mass
+    if spec is None:
+        return total_added_mass(shape_objects(body.shapes), density)
     if spec == "from_geometry":
         assert isinstance(body, LinkSpec)
         return cylinder_added_mass(density, body.cylinder.radius, body.cylinder.length)
     I_A = spec.value()
     return shift_spatial_inertia(I_A, np.array(body.com)) if spec.about == "com" else I_A
+
+
+def _buoyancy(body: VehicleSpec | LinkSpec, density: float) -> tuple[float, np.ndarray]:
+    """Displaced fluid mass ``m_f`` [kg] and centre of buoyancy [m] (Eqs. 7-8): as stated, else from the body's
+    shapes (``rho V`` at their volume-weighted centre, :func:`uvms.hydro.shapes.buoyancy`)."""
+    from uvms.hydro.shapes import buoyancy
+
+    if body.buoyancy is not None:
+        return body.buoyancy.mass, np.array(body.buoyancy.center, dtype=float)
+    volume, centre = buoyancy(shape_objects(body.shapes))
+    return density * volume, np.asarray(centre, dtype=float)
 
 
 def shape_objects(specs) -> list:
@@ -112,8 +128,8 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         com=com,
         inertia_com=inertia,
         added_mass=added_mass,
-        buoyancy_mass=np.array([b.buoyancy.mass for b in bodies]),
-        cob=np.array([b.buoyancy.center for b in bodies]).reshape(-1, 3),
+        buoyancy_mass=np.array([_buoyancy(b, env.density)[0] for b in bodies]),
+        cob=np.array([_buoyancy(b, env.density)[1] for b in bodies]).reshape(-1, 3),
         vehicle_drag_area=np.array(vehicle.drag.area),
         vehicle_drag_coefficient=np.array(vehicle.drag.coefficient),
         vehicle_rotational_drag_side=vehicle.drag.rotational.side,

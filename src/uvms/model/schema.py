@@ -437,18 +437,29 @@ def _no_collision(shapes: tuple) -> tuple:
     return shapes
 
 
+def _buoyancy_and_added_mass_given(body):
+    """A DH model's body states its buoyancy and added mass, or carries shapes that give them."""
+    for key in ("buoyancy", "added_mass"):
+        if getattr(body, key) is None and not body.shapes:
+            raise PydanticCustomError("uvms", "{message}", {
+                "message": "expected a value (required field, unless the body has 'shapes' that give it), found none",
+                "subpath": key})
+    return body
+
+
 class VehicleSpec(_BodySpec):
     """The vehicle (body 0; paper appendix, "URV Parameters")."""
 
     inertia: VehicleInertiaSpec
-    buoyancy: BuoyancySpec
-    added_mass: VehicleAddedMassSpec
+    buoyancy: BuoyancySpec | None = None          # default: from ``shapes``
+    added_mass: VehicleAddedMassSpec | None = None    # default: from ``shapes``
     drag: VehicleDragSpec
     box: NonNegativeVec3                          # box dimensions [m]
     damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping (added to ``drag``)
     shapes: tuple[ShapeSpec, ...] = ()            # buoyancy, added mass and drag of shapes (added to ``drag``)
 
     _shapes_here = field_validator("shapes")(classmethod(lambda cls, v: _no_collision(v)))
+    _hydrostatics = model_validator(mode="after")(lambda self: _buoyancy_and_added_mass_given(self))
 
 
 class DHSpec(Spec):
@@ -475,12 +486,13 @@ class LinkSpec(_BodySpec):
     inertia: LinkInertiaSpec
     cylinder: CylinderSpec
     drag_coefficient: NonNegative                 # normal-flow Cd [-] (Eq. 6)
-    buoyancy: BuoyancySpec
-    added_mass: LinkAddedMass                     # or "from_geometry" (strip theory for the cylinder)
+    buoyancy: BuoyancySpec | None = None          # default: from ``shapes``
+    added_mass: LinkAddedMass | None = None       # or "from_geometry" (cylinder strip theory); default: ``shapes``
     damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping (added to Eq. 6)
     shapes: tuple[ShapeSpec, ...] = ()            # buoyancy, added mass and drag of shapes (added to Eq. 6)
 
     _shapes_here = field_validator("shapes")(classmethod(lambda cls, v: _no_collision(v)))
+    _hydrostatics = model_validator(mode="after")(lambda self: _buoyancy_and_added_mass_given(self))
 
 
 class MountSpec(Spec):

@@ -386,7 +386,7 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.
     from dataclasses import replace
 
     from uvms.hydro.shapes import added_mass as shape_added_mass
-    from uvms.hydro.shapes import volume
+    from uvms.hydro.shapes import buoyancy as shape_buoyancy
 
     shapes = list(hydro.shapes)
     if hydro.from_collision is not None and urdf_link is not None:
@@ -396,9 +396,8 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.
         if not hydro.explicit_added_mass:
             added = sum(shape_added_mass(s, hydro.density) for s in shapes)
         if not hydro.explicit_buoyancy:
-            vols = np.array([volume(s) for s in shapes])
-            fluid_mass = float(hydro.density * vols.sum())
-            center = (vols[:, None] * np.array([s.position for s in shapes])).sum(axis=0) / vols.sum()
+            total, center = shape_buoyancy(shapes)
+            fluid_mass = float(hydro.density * total)
         body.shapes = body.shapes + [replace(s, rotation=R @ s.rotation, position=p + R @ s.position)
                                      for s in shapes]
     body.added_mass = body.added_mass + _to_body(added, R, p)
