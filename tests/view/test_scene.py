@@ -212,3 +212,33 @@ def test_animation_frames_move_the_same_points_as_the_drawn_traces(paper):
         for trace, p in zip(traces, points):
             drawn = np.column_stack([np.asarray(trace[a], dtype=float) for a in "xyz"])
             assert drawn == pytest.approx(p, abs=1e-6, nan_ok=True), trace.name
+
+
+def test_hydrodynamic_shapes_are_drawn_where_the_model_puts_them(tmp_path):
+    """A vehicle sphere and a link cylinder along the link's y axis (shapes of the model file) become
+    primitives of their bodies at their poses; the cylinder primitive's axis (its local z) lies along y."""
+    import copy
+    from importlib.resources import files
+
+    import yaml
+
+    import uvms
+    from uvms.view.scene import scene_from_model
+
+    data = copy.deepcopy(yaml.safe_load((files("uvms.model") / "models" / "paper.yaml").read_text()))
+    data["vehicle"]["shapes"] = [{"type": "sphere", "radius": 0.1, "drag_coefficient": 0.5,
+                                  "position": [0.2, 0.0, 0.1]}]
+    data["arm"]["links"][1]["shapes"] = [{"type": "cylinder", "radius": 0.03, "length": 0.2,
+                                          "drag_coefficient": 1.0, "position": [0.1, 0.05, 0.0],
+                                          "rotation_rpy": [0.0, 0.0, np.pi / 2]}]
+    path = tmp_path / "shapes.yaml"
+    path.write_text(yaml.safe_dump(data))
+    scene = scene_from_model(uvms.load_model(path))
+    spheres = [p for p in scene.primitives if p.kind == "sphere"]
+    cylinders = [p for p in scene.primitives if p.kind == "cylinder" and p.body == 2 and p.size == (0.03, 0.2)]
+    assert len(spheres) == 1 and spheres[0].body == 0 and spheres[0].size == (0.1,)
+    np.testing.assert_allclose(spheres[0].position, [0.2, 0.0, 0.1])
+    assert len(cylinders) == 1
+    np.testing.assert_allclose(cylinders[0].position, [0.1, 0.05, 0.0])
+    np.testing.assert_allclose(np.abs(np.asarray(cylinders[0].rotation) @ [0.0, 0.0, 1.0]), [0.0, 1.0, 0.0],
+                               atol=1e-12)

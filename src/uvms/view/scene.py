@@ -140,9 +140,9 @@ def _rotation_z_to(axis: np.ndarray) -> np.ndarray:
 def scene_from_model(model, thrusters=None) -> Scene:
     """The scene of ``model``: its shapes, centres of mass and buoyancy, joint axes and thrusters.
 
-    The only function that reads geometry from a model. Today that is the vehicle box (``vehicle_box``) and the
-    links' drag cylinders (``link_radius``, ``link_length``: along the link's x axis from the joint, as in
-    :mod:`uvms.hydro.drag`); shapes a model may carry later are read with defaults, so adding them is one line
+    The only function that reads geometry from a model: the vehicle box (``vehicle_box``), the links' drag
+    cylinders (``link_radius``, ``link_length``: along the link's x axis from the joint, as in
+    :mod:`uvms.hydro.drag`) and every body's hydrodynamic shapes (``shape_drag``, :mod:`uvms.hydro.shapes`); shapes a model may carry later are read with defaults, so adding them is one line
     here: ``model.shapes`` (hydrodynamic shapes) and ``model.visuals`` (e.g. a URDF's visual meshes), each an
     iterable of :class:`Primitive` or of descriptions :func:`primitive_from` understands (a mesh whose file
     is missing is left out). ``thrusters`` (default: ``model.thrusters``) are objects with ``name``,
@@ -164,6 +164,7 @@ def scene_from_model(model, thrusters=None) -> Scene:
             prims.append(Primitive("cylinder", i + 1, (radius[i], length[i]), rotation=along_x,
                                    position=(0.5 * length[i], 0.0, 0.0), name=f"{names[i + 1]} (cylinder)",
                                    role="link", color=LINK_COLOR, opacity=1.0))
+    prims += _hydrodynamic_shapes(model, names)
     for group in ("shapes", "visuals"):
         for item in getattr(model, group, ()) or ():
             prim = primitive_from(item, role="link" if group == "shapes" else "visual")
@@ -182,6 +183,37 @@ def scene_from_model(model, thrusters=None) -> Scene:
                  cob=np.asarray(getattr(model, "cob", model.com), dtype=float).reshape(nb, 3),
                  parent=parent, joint_axes=axes / np.linalg.norm(axes, axis=1, keepdims=True) if n else axes,
                  thrusters=arrows, length=size)
+
+
+def _hydrodynamic_shapes(model, names) -> list[Primitive]:
+    """The hydrodynamic shapes of every body (``model.shape_drag`` rows, :func:`uvms.hydro.shapes.drag_table`
+    layout: kind, shape-to-body rotation, centre, dimensions; a cylinder's axis is the shape frame's x, the
+    cylinder primitive's is z)."""
+    from uvms.hydro import shapes as hs
+
+    table = getattr(model, "shape_drag", None)
+    count = getattr(model, "shape_count", None)
+    if table is None or count is None:
+        return []
+    x_to_z = _rotation_z_to(np.array([1.0, 0.0, 0.0]))
+    out = []
+    for body, k in enumerate(np.asarray(count, dtype=int)):
+        for row in np.asarray(table[body][:k], dtype=float):
+            kind = int(row[hs.COL_KIND])
+            R = row[hs.COL_ROTATION:hs.COL_ROTATION + 9].reshape(3, 3)
+            p = row[hs.COL_POSITION:hs.COL_POSITION + 3]
+            d = row[hs.COL_DIMENSIONS:hs.COL_DIMENSIONS + 3]
+            common = dict(position=tuple(p), name=f"{names[body]} (shape)", role="link", color=LINK_COLOR,
+                          opacity=0.6)
+            if kind == hs.KIND_SPHERE:
+                out.append(Primitive("sphere", body, (d[0],), rotation=R, **common))
+            elif kind == hs.KIND_BOX:
+                out.append(Primitive("box", body, tuple(2.0 * d), rotation=R, **common))
+            elif kind == hs.KIND_CYLINDER:
+                out.append(Primitive("cylinder", body, (d[0], d[1]), rotation=R @ x_to_z, **common))
+            elif kind == hs.KIND_ELLIPSOID:
+                out.append(Primitive("ellipsoid", body, tuple(d), rotation=R, **common))
+    return out
 
 
 def _field(item: Any, *names: str, default: Any = None) -> Any:
