@@ -29,6 +29,7 @@ from uvms.sweep import load_sweep, run, summarize, sweep_from_data
 from uvms.sweep.spec import parameter_sets, set_path
 from uvms.sweep.store import RunStore, columns
 
+from .sweep.helpers import scheduler_address
 from .sweep.helpers import stop_group as _stop_group
 
 CASE3 = yaml.safe_load((files("uvms") / "scenarios" / "paper_case3_controlled.yaml").read_text())
@@ -338,10 +339,7 @@ def test_external_scheduler_and_worker(tmp_path, warm_kernels, capsys):
                         "--scheduler-file", str(scheduler_file)], tmp_path)
     worker = None
     try:
-        deadline = time.monotonic() + 60
-        while not scheduler_file.exists() and time.monotonic() < deadline and scheduler.poll() is None:
-            time.sleep(0.1)
-        address = json.loads(scheduler_file.read_text())["address"]
+        address = scheduler_address(scheduler_file, scheduler)
         assert address.startswith("tcp://127.0.0.1:")
         worker = _start([str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--host",
                          "127.0.0.1", "--no-dashboard", "--death-timeout", "60"], tmp_path)

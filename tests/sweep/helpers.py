@@ -92,6 +92,26 @@ def wait_for(predicate, timeout: float, what: str) -> None:
     raise AssertionError(f"{what} within {timeout} s")
 
 
+def scheduler_address(scheduler_file: Path, scheduler, timeout: float = 60) -> str:
+    """The address a ``dask scheduler --scheduler-file`` process writes, once the file is complete (it exists
+    before its JSON is written)."""
+    import json
+
+    found: dict = {}
+
+    def ready() -> bool:
+        if scheduler.poll() is not None:
+            raise AssertionError(f"the scheduler exited with {scheduler.returncode}")
+        try:
+            found.update(json.loads(scheduler_file.read_text()))
+        except (OSError, ValueError):
+            return False
+        return "address" in found
+
+    wait_for(ready, timeout, "the scheduler file")
+    return found["address"]
+
+
 def rows_in(out: Path) -> int:
     try:
         return max(0, (out / "runs.csv").read_bytes().count(b"\n") - 1)

@@ -13,7 +13,7 @@ from pathlib import Path
 import psutil
 import pytest
 
-from tests.sweep.helpers import BIN, alive_in_group, start, stop_group, wait_for, write_sweep
+from tests.sweep.helpers import BIN, alive_in_group, scheduler_address, start, stop_group, wait_for, write_sweep
 from uvms.cli import main
 from uvms.errors import UvmsInputError
 from uvms.sweep.cluster import check_scheduler, local_cluster, security_from_files
@@ -107,7 +107,8 @@ def test_a_client_with_the_credentials_can(cluster, tmp_path):
     from distributed import Client
 
     marker = tmp_path / "owner"
-    with Client(cluster.scheduler.address, security=cluster.cluster.security, timeout=10,
+    # the new client shares the running IO loop (no second loop thread to start in this busy process)
+    with Client(cluster.scheduler.address, security=cluster.cluster.security, timeout=30, loop=cluster.loop,
                 set_as_default=False) as owner:
         assert owner.submit(_mark, str(marker), pure=False).result(timeout=60) == "ran"
     assert marker.exists()
@@ -243,8 +244,6 @@ def test_cli_refuses_insecure_or_misplaced_options_in_one_line(tmp_path, capsys,
 def test_external_tls_scheduler_with_credential_files(tmp_path, capsys):
     """The docs' cluster recipe on loopback: a TLS scheduler and worker; the sweep reaches them with --tls-*
     files, and is refused (one line, nothing left) without them."""
-    import json
-
     from distributed.security import Security
 
     from tests.sweep.helpers import warm_kernels
@@ -263,8 +262,7 @@ def test_external_tls_scheduler_with_credential_files(tmp_path, capsys):
                        str(scheduler_file), *tls], tmp_path)
     worker = None
     try:
-        wait_for(lambda: scheduler_file.exists() or scheduler.poll() is not None, 60, "the scheduler file")
-        address = json.loads(scheduler_file.read_text())["address"]
+        address = scheduler_address(scheduler_file, scheduler)
         assert address.startswith("tls://127.0.0.1:")
         worker = start([str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--host",
                         "127.0.0.1", "--no-dashboard", "--death-timeout", "60", *tls], tmp_path)

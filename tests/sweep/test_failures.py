@@ -3,7 +3,6 @@ worker left stops the sweep with one line and exit code 1 after a bounded wait, 
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import threading
@@ -14,8 +13,8 @@ import distributed  # noqa: F401 - its configuration defaults must exist before 
 import pandas as pd
 import pytest
 
-from tests.sweep.helpers import (BIN, die_on_marked_run, rows_in, slow_run, start, stop_group, wait_for, warm_kernels,
-                                 write_sweep)
+from tests.sweep.helpers import (BIN, die_on_marked_run, rows_in, scheduler_address, slow_run, start, stop_group,
+                                 wait_for, warm_kernels, write_sweep)
 from uvms.cli import main
 from uvms.sweep import SweepStopped, load_sweep, run
 
@@ -63,8 +62,7 @@ def _external_cluster(tmp_path: Path):
     scheduler_file = tmp_path / "scheduler.json"
     scheduler = start([str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                        "--scheduler-file", str(scheduler_file)], tmp_path)
-    wait_for(lambda: scheduler_file.exists() or scheduler.poll() is not None, 60, "the scheduler file")
-    address = json.loads(scheduler_file.read_text())["address"]
+    address = scheduler_address(scheduler_file, scheduler)
     worker = start([str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--host",
                     "127.0.0.1", "--no-dashboard", "--death-timeout", "60"], tmp_path)
     return scheduler, worker, address
