@@ -9,23 +9,11 @@ import yaml
 
 import uvms
 from uvms.cli import main
-from uvms.control.base import ControlOutput
 from uvms.errors import UvmsInputError
 from uvms.sim.run import Actuation, simulate
 from uvms.thrusters.table import STANDARD_GRAVITY, table_thrust
 
-
-class ConstantWrench:
-    period = 0.01
-
-    def __init__(self, wrench):
-        self.wrench = np.array(wrench, dtype=float)
-
-    def reset(self):
-        pass
-
-    def update(self, measurement):
-        return ControlOutput(wrench=self.wrench)
+from ..sim.test_actuation import ConstantWrench
 
 
 def write_model(tmp_path, thrusters, name="table.yaml"):

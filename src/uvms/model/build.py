@@ -119,6 +119,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
     added_mass = np.array([_added_mass(b, env.density) for b in bodies])
     check_joint_axis_inertia(mass, com, inertia, added_mass, source=source, where=lambda j: f"arm.links[{j}].inertia")
     damping = [(b.damping.matrices(), b.damping.about) if b.damping is not None else None for b in bodies]
+    buoyancy = [_buoyancy(b, env.density) for b in bodies]
     shapes = [shape_objects(b.shapes) for b in bodies]
     return Model(
         name=spec.name,
@@ -128,8 +129,8 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         com=com,
         inertia_com=inertia,
         added_mass=added_mass,
-        buoyancy_mass=np.array([_buoyancy(b, env.density)[0] for b in bodies]),
-        cob=np.array([_buoyancy(b, env.density)[1] for b in bodies]).reshape(-1, 3),
+        buoyancy_mass=np.array([m_f for m_f, _ in buoyancy]),
+        cob=np.array([b for _, b in buoyancy]).reshape(-1, 3),
         vehicle_drag_area=np.array(vehicle.drag.area),
         vehicle_drag_coefficient=np.array(vehicle.drag.coefficient),
         vehicle_rotational_drag_side=vehicle.drag.rotational.side,
@@ -178,6 +179,19 @@ def _shapes_into(hydro, spec) -> None:
     hydro.explicit_buoyancy = spec.buoyancy is not None
 
 
+def _explicit_hydro_into(hydro, spec, rho: float, *, added_mass: bool) -> None:
+    """A URDF body's stated buoyancy, damping (and added mass, if ``added_mass``) and its shapes into its
+    :class:`~uvms.model.urdf.LinkHydro`."""
+    if added_mass and spec.added_mass is not None:
+        hydro.added_mass = spec.added_mass.value()
+    if spec.buoyancy is not None:
+        hydro.fluid_mass = spec.buoyancy.fluid_mass(rho)
+        hydro.center = np.array(spec.buoyancy.center)
+    if spec.damping is not None:
+        hydro.damping = (*spec.damping.matrices(), np.array(spec.damping.about))
+    _shapes_into(hydro, spec)
+
+
 def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
     """The :class:`Model` of a URDF (``urdf_path``, resolved by the caller) with the additions of ``spec``."""
     from uvms.model.urdf import LinkHydro, VehicleExtras, model_from_urdf
@@ -197,23 +211,11 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
             hydro.added_mass = X.T @ cylinder_added_mass(rho, c.radius, c.length) @ X
         elif link.added_mass is not None:
             hydro.added_mass = link.added_mass.value()
-        if link.buoyancy is not None:
-            hydro.fluid_mass = link.buoyancy.fluid_mass(rho)
-            hydro.center = np.array(link.buoyancy.center)
-        if link.damping is not None:
-            hydro.damping = (*link.damping.matrices(), np.array(link.damping.about))
-        _shapes_into(hydro, link)
+        _explicit_hydro_into(hydro, link, rho, added_mass=False)
         links[name] = hydro
     vehicle = spec.vehicle
     vehicle_hydro = LinkHydro()
-    if vehicle.added_mass is not None:
-        vehicle_hydro.added_mass = vehicle.added_mass.value()
-    if vehicle.buoyancy is not None:
-        vehicle_hydro.fluid_mass = vehicle.buoyancy.fluid_mass(rho)
-        vehicle_hydro.center = np.array(vehicle.buoyancy.center)
-    if vehicle.damping is not None:
-        vehicle_hydro.damping = (*vehicle.damping.matrices(), np.array(vehicle.damping.about))
-    _shapes_into(vehicle_hydro, vehicle)
+    _explicit_hydro_into(vehicle_hydro, vehicle, rho, added_mass=True)
     drag = vehicle.drag
     extras = VehicleExtras(
         name=spec.name, density=rho, gravity=env.gravity, current=env.current,
