@@ -499,7 +499,7 @@ def bench_simulation(settings: Settings) -> Section:
     model on) and ``mujoco.rollout`` in the same run; the paper's case 2 (released, no control) and case 3
     (``smc-ab``, 60 % model error) over 10 s at 1 ms: wall time and real-time factor."""
     from uvms.control.registry import make_controller
-    from uvms.sim.actuation import actuator_kernel
+    from uvms.thrusters.actuation import actuator_kernel
     from uvms.sim.inputs import paper_torques
     from uvms.sim.integrate import pack, rk4
     from uvms.sim.run import simulate

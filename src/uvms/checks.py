@@ -147,6 +147,13 @@ def number(value: Any, name: str, *, positive: bool = False, nonnegative: bool =
     return x
 
 
+def count(value: Any, name: str, *, minimum: int = 0) -> int:
+    """A whole number ``>= minimum`` (an ``int`` or a numpy integer; booleans, floats and strings are refused)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise fail(name, f"expected a whole number >= {minimum}, got {show(value)}")
+    return int(value)
+
+
 def optional_number(value: Any, name: str, *, positive: bool = False, unit: str = "") -> float | None:
     """:func:`number`, or ``None`` for ``None``."""
     return None if value is None else number(value, name, positive=positive, unit=unit)
@@ -260,53 +267,3 @@ def check_joint_axis_inertia(mass, com, inertia_com, added_mass, *, joint_axis=N
 
 ADAPTIVE_METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 """The ``scipy.integrate.solve_ivp`` methods ``simulate(integrator=...)`` accepts besides ``"rk4"``."""
-
-
-def simulate_arguments(model, integrator, fixed_base, joint_torques, current, controller, actuation,
-                       control_period, record_period, rtol, atol, bounds, progress, metadata) -> tuple:
-    """:func:`uvms.simulate`'s arguments (after ``model``, ``initial_state``, ``duration`` and ``step``) checked,
-    normalised: ``(integrator, fixed_base, joint_torques, current, control_period, record_period, rtol, atol,
-    bounds)``. A callable input's outputs are checked when it is called (:func:`returned_vector`)."""
-    from uvms.sim.inputs import CurrentTable, TorqueSchedule
-    from uvms.sim.run import Actuation
-
-    n = model.n_joints
-    known = {m.lower(): m for m in ("rk4", *ADAPTIVE_METHODS)}
-    if not isinstance(integrator, str) or integrator.lower() not in known:
-        raise fail("integrator", f"expected 'rk4' or one of {', '.join(ADAPTIVE_METHODS)}, got {show(integrator)}")
-    integrator = known[integrator.lower()]
-    fixed_base = flag(fixed_base, "fixed_base")
-    if isinstance(joint_torques, TorqueSchedule):
-        if joint_torques.torques.shape[1] != n:
-            raise fail("joint_torques", f"expected a schedule of {n} torques per row (one per joint: the model has "
-                                        f"{n} joints), got {joint_torques.torques.shape[1]}")
-        matrix(joint_torques.torques, None, n, "joint_torques", " [N m]")
-    elif joint_torques is not None and not callable(joint_torques):
-        joint_torques = vector(joint_torques, n, "joint_torques", " (one per joint)")
-    if not (current is None or isinstance(current, CurrentTable) or callable(current)):
-        current = vector(current, 3, "current", " (world frame, m/s)")
-    if controller is not None and not callable(getattr(controller, "update", None)):
-        raise fail("controller", f"expected None or a controller with update(measurement), got {show(controller)}")
-    if actuation is not None and not isinstance(actuation, Actuation):
-        raise fail("actuation", f"expected None or an Actuation (e.g. Actuation.named('paper')), got {show(actuation)}")
-    if actuation is not None:
-        from uvms.thrusters.layouts import Thruster
-
-        thrusters = actuation.thrusters
-        if not isinstance(thrusters, tuple) or not all(isinstance(t, Thruster) for t in thrusters):
-            raise fail("actuation", f"expected thrusters that are uvms Thruster descriptions, got {show(thrusters)}")
-    control_period = optional_number(control_period, "control_period", positive=True, unit="s")
-    record_period = optional_number(record_period, "record_period", positive=True, unit="s")
-    rtol = number(rtol, "rtol", positive=True)
-    atol = number(atol, "atol", positive=True)
-    try:
-        limits = np.asarray(bounds) if not isinstance(bounds, (str, bytes)) else None
-    except (ValueError, TypeError):
-        limits = None
-    if limits is None or limits.dtype.kind not in _NUMERIC_KINDS or limits.shape != (4,) or not np.all(limits > 0):
-        raise fail("bounds", f"expected 4 positive limits (|position|, |nu|, |qd|, |actuator|), got {show(bounds)}")
-    callable_or_none(progress, "progress", "progress(t, duration)")
-    if metadata is not None and not isinstance(metadata, dict):
-        raise fail("metadata", f"expected None or a dict, got {show(metadata)}")
-    return (integrator, fixed_base, joint_torques, current, control_period, record_period, rtol, atol,
-            np.array(limits, dtype=np.float64))

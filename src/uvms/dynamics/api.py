@@ -1,53 +1,40 @@
 """Labelled Python entry points to the compiled dynamics (checks at the boundary, Pinocchio-style).
 
-``forward_dynamics`` (ABA), ``inverse_dynamics`` (RNEA) and ``mass_matrix`` (CRBA) take a frozen
-:class:`~uvms.model.Model` and a :class:`~uvms.state.State`. Vectors are ``[angular; linear]``, body axes.
-Current and fluid acceleration default to the model's environment and may be overridden per call
-(world frame).
+:class:`Dynamics` owns one compiled plant of a model (:class:`uvms.dynamics.plant.Plant`: kernel arrays,
+workspace, scratch) and evaluates ``forward`` (ABA), ``inverse`` (RNEA) and ``mass_matrix`` (CRBA) on it,
+checking every argument once at the boundary; package code that evaluates the dynamics from Python holds a
+``Dynamics`` as Pinocchio code holds its ``data``. ``forward_dynamics``, ``inverse_dynamics`` and
+``mass_matrix`` are the convenience entries: one line over a per-thread ``Dynamics`` of the model.
+
+States are :class:`~uvms.state.State`; vectors are ``[angular; linear]``, body axes. Current and fluid
+acceleration default to the model's environment and may be overridden per call (world frame).
 """
 
 from __future__ import annotations
 
 import threading
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
 from uvms import checks
-from uvms.dynamics.aba import aba
-from uvms.dynamics.crba import crba
-from uvms.dynamics.fastcall import specialised
-from uvms.dynamics.kernel_model import make_workspace
-from uvms.dynamics.rnea import rnea
+from uvms.dynamics.plant import build_plant, plant_forward, plant_inverse, plant_mass_matrix
 
 _local = threading.local()
-"""Per-thread workspaces by number of bodies: a call reuses one instead of allocating ~16 arrays. (The kernels
-hold the GIL today; one workspace per thread keeps this right if they ever release it.)"""
-_entries: dict[tuple, tuple] = {}
-"""Compiled entry point of a kernel for one model's kernel arrays: ``(kernel, id(arrays)) -> (arrays, entry)``
-(the arrays are held so that their id is not reused). The other arguments are built here, always as fresh
-C-ordered float64 arrays and a bool, so the types of a call are those of its first call."""
-_MAX_ENTRIES = 64
+"""Per-thread :class:`Dynamics` of each model used through the convenience functions (a model's entry goes
+with the model: weak keys)."""
 
 
-def _workspace(n_bodies: int):
-    cache = _local.__dict__.setdefault("workspaces", {})
-    ws = cache.get(n_bodies)
-    if ws is None:
-        ws = cache[n_bodies] = make_workspace(n_bodies)
-    return ws
-
-
-def _call(kernel, km, *args) -> None:
-    """``kernel(km, *args)`` through its resolved specialisation (:func:`~uvms.dynamics.fastcall.specialised`),
-    skipping numba's per-call typing of the ~20 model and ~16 workspace arrays (5-10 us)."""
-    key = (kernel, id(km))
-    hit = _entries.get(key)
-    if hit is None:
-        if len(_entries) >= _MAX_ENTRIES:
-            _entries.pop(next(iter(_entries)))
-        hit = _entries[key] = (km, specialised(kernel, km, *args))
-    hit[1](km, *args)
+def dynamics_of(model) -> "Dynamics":
+    """This thread's :class:`Dynamics` of ``model`` (built at the first call)."""
+    cache = _local.__dict__.get("by_model")
+    if cache is None:
+        cache = _local.by_model = weakref.WeakKeyDictionary()
+    dyn = cache.get(checks.model(model))
+    if dyn is None:
+        dyn = cache[model] = Dynamics(model)
+    return dyn
 
 
 _vec = checks.optional_vector
@@ -67,6 +54,13 @@ class Accelerations:
 
     nu_dot: np.ndarray
     qdd: np.ndarray
+
+    @classmethod
+    def trusted(cls, nu_dot: np.ndarray, qdd: np.ndarray) -> "Accelerations":
+        """Built without the dataclass machinery (arrays the dynamics just wrote)."""
+        obj = object.__new__(cls)
+        obj.__dict__.update(nu_dot=nu_dot, qdd=qdd)
+        return obj
 
     @property
     def generalized(self) -> np.ndarray:
@@ -93,70 +87,138 @@ def _environment(model, current, fluid_acceleration) -> Environment:
                             model.fluid_acceleration))
 
 
-def _state_arrays(model, state, fixed_base: bool):
-    checks.state(model, state)
-    nu = np.array(state.nu, dtype=float)
-    if fixed_base is not False and checks.flag(fixed_base, "fixed_base") and np.any(nu != 0.0):
-        raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does not "
-                                        "move")
-    return (state.rotation, nu, np.array(state.q, dtype=float), np.array(state.qd, dtype=float))
+class Dynamics:
+    """The compiled dynamics of one model, with every argument checked (module docstring).
+
+    Args:
+        model: a :class:`~uvms.model.Model`.
+        fixed_base: clamp the vehicle (a land-based arm): ``nu_dot = 0``, and states must have ``nu = 0``.
+    """
+
+    def __init__(self, model, *, fixed_base: bool = False) -> None:
+        self.model = checks.model(model)
+        self.fixed_base = checks.flag(fixed_base, "fixed_base")
+        self.plant, self.data = build_plant(model, fixed_base=self.fixed_base)
+        n = model.n_joints
+        self._zero6 = np.zeros(6)
+        self._zero_n = np.zeros(n)
+        self._env = np.array([model.current, model.fluid_acceleration], dtype=float)
+        self._no_inputs = np.concatenate([self._zero_n, self._zero6, self._zero6, self._env[0], self._env[1]])
+
+    def __repr__(self) -> str:
+        return f"Dynamics({self.model.name!r}, {self.model.n_joints} joints, fixed_base={self.fixed_base})"
+
+    def _pose(self, state) -> np.ndarray:
+        """The packed pose ``[quaternion | nu | q | qd]`` of a checked state."""
+        checks.state(self.model, state)
+        y = np.concatenate((state.quaternion, state.nu, state.q, state.qd))
+        if self.fixed_base and np.any(y[4:10] != 0.0):
+            raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does "
+                                            "not move")
+        return y
+
+    def _environment(self, current, fluid_acceleration) -> np.ndarray:
+        env = self._env.copy()
+        if current is not None:
+            env[0] = checks.vector(current, 3, "current", " (world frame, m/s)")
+        if fluid_acceleration is not None:
+            env[1] = checks.vector(fluid_acceleration, 3, "fluid_acceleration", " (world frame, m/s^2)")
+        return env
+
+    def _inputs(self, first: np.ndarray | None, middle, ee_wrench, current, fluid_acceleration) -> np.ndarray:
+        """Packed inputs: ``first`` (joint torques, or nu_dot and qdd), a 6-vector ``middle`` (body wrench) or
+        nothing, the end-effector wrench, current and fluid acceleration."""
+        parts = [first] if first is not None else []
+        if middle is not False:
+            parts.append(self._zero6 if middle is None else checks.vector(middle, 6, "body_wrench", _WRENCH))
+        parts.append(self._zero6 if ee_wrench is None else checks.vector(ee_wrench, 6, "ee_wrench", _WRENCH))
+        parts.append(self._env[0] if current is None else checks.vector(current, 3, "current", " (world frame, m/s)"))
+        parts.append(self._env[1] if fluid_acceleration is None
+                     else checks.vector(fluid_acceleration, 3, "fluid_acceleration", " (world frame, m/s^2)"))
+        return np.concatenate(parts)
+
+    def forward(self, state, *, joint_torques=None, body_wrench=None, ee_wrench=None, current=None,
+                fluid_acceleration=None) -> Accelerations:
+        """Accelerations of the vehicle and the arm by the hydrodynamic articulated-body algorithm (Eqs. 13-23).
+
+        Args:
+            joint_torques: (n,) [N m]; zero when omitted.
+            body_wrench: (6,) wrench ``f_0 = [moment; force]`` on the vehicle, body axes (thrusters, Eq. 11).
+            ee_wrench: (6,) spatial force on the end effector in end-effector axes (Eq. 14's ``f_ee``).
+            current, fluid_acceleration: (3,) world-frame overrides of the model's environment.
+        """
+        checks.state(self.model, state)
+        if self.fixed_base and np.any(state.nu != 0.0):
+            raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does "
+                                            "not move")
+        n = self.model.n_joints
+        tau = self._zero_n if joint_torques is None else checks.vector(joint_torques, n, "joint_torques", _PER_JOINT)
+        f_body = self._zero6 if body_wrench is None else checks.vector(body_wrench, 6, "body_wrench", _WRENCH)
+        f_ee = self._zero6 if ee_wrench is None else checks.vector(ee_wrench, 6, "ee_wrench", _WRENCH)
+        env = self._env if current is None and fluid_acceleration is None else \
+            self._environment(current, fluid_acceleration)
+        nu_dot = np.zeros(6)
+        qdd = np.zeros(n)
+        plant_forward(self.plant, state.quaternion, state.nu, state.q, state.qd, tau, f_body, f_ee, env,
+                      self.fixed_base, nu_dot, qdd)
+        total = sum(nu_dot.tolist()) + sum(qdd.tolist())  # any NaN or inf makes the sum one: fast test
+        if total - total != 0.0 and not checks.finite(nu_dot, qdd):
+            raise checks.overflow("the accelerations", {
+                "state.nu": state.nu, "state.qd": state.qd, "joint_torques": tau, "body_wrench": f_body,
+                "ee_wrench": f_ee, "current": env[0], "fluid_acceleration": env[1]})
+        return Accelerations.trusted(nu_dot, qdd)
+
+    def inverse(self, state, *, nu_dot, qdd, ee_wrench=None, current=None,
+                fluid_acceleration=None) -> tuple[np.ndarray, np.ndarray]:
+        """The vehicle wrench (6,) and joint torques (n,) that produce ``nu_dot`` and ``qdd`` (RNEA)."""
+        y = self._pose(state)
+        n = self.model.n_joints
+        accelerations = np.concatenate((checks.vector(nu_dot, 6, "nu_dot"), checks.vector(qdd, n, "qdd", _PER_JOINT)))
+        u = self._inputs(accelerations, False, ee_wrench, current, fluid_acceleration)
+        out = np.zeros(6 + n)
+        plant_inverse(self.plant, y, u, out)
+        total = sum(out.tolist())  # any NaN or inf makes the sum one: fast test
+        if total - total != 0.0 and not checks.finite(out):
+            raise checks.overflow("the wrench and torques", {
+                "state.nu": y[4:10], "state.qd": y[10 + n:], "nu_dot": u[:6], "qdd": u[6:6 + n],
+                "ee_wrench": u[6 + n:12 + n], "current": u[12 + n:15 + n], "fluid_acceleration": u[15 + n:]})
+        return out[:6], out[6:]
+
+    def mass_matrix(self, state) -> np.ndarray:
+        """Joint-space inertia matrix ``M`` (6+n, 6+n) of ``[nu; qd]``, added mass included (CRBA)."""
+        checks.state(self.model, state)
+        M = np.zeros((self.model.n_dof, self.model.n_dof))
+        plant_mass_matrix(self.plant, np.array(state.q, dtype=float), M)
+        return M
+
+    def vehicle_articulated_inertia(self, state, *, joint_torques=None) -> np.ndarray:
+        """The vehicle's articulated inertia ``I_0^*`` (6x6, body axes: the inertia a body wrench meets with the
+        arm free, paper Eq. 16) at ``state``; a copy."""
+        self.forward(state, joint_torques=joint_torques)
+        return np.array(self.data.work.IA[0])
 
 
 def forward_dynamics(model, state, *, joint_torques=None, body_wrench=None, ee_wrench=None, fixed_base=False,
                      current=None, fluid_acceleration=None) -> Accelerations:
-    """Accelerations of the vehicle and the arm by the hydrodynamic articulated-body algorithm (Eqs. 13-23).
-
-    Args:
-        joint_torques: (n,) [N m]; zero when omitted.
-        body_wrench: (6,) wrench ``f_0 = [moment; force]`` on the vehicle, body axes (thrusters, Eq. 11).
-        ee_wrench: (6,) spatial force on the end effector in end-effector axes (Eq. 14's ``f_ee``).
-        fixed_base: clamp the vehicle (a land-based arm): ``nu_dot = 0``.
-        current, fluid_acceleration: (3,) world-frame overrides of the model's environment.
-    """
-    R0, nu, q, qd = _state_arrays(model, state, fixed_base)
-    n = model.n_joints
-    env = _environment(model, current, fluid_acceleration)
-    nu_dot = np.zeros(6)
-    qdd = np.zeros(n)
-    tau = _vec(joint_torques, n, "joint_torques", _PER_JOINT)
-    f_body = _vec(body_wrench, 6, "body_wrench", _WRENCH)
-    f_ee = _vec(ee_wrench, 6, "ee_wrench", _WRENCH)
-    _call(aba, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, tau, f_body, f_ee, env.current,
-          env.fluid_acceleration, bool(fixed_base), nu_dot, qdd)
-    total = sum(nu_dot.tolist()) + sum(qdd.tolist())  # any NaN or inf makes the sum one: fast test
-    if total - total != 0.0 and not checks.finite(nu_dot, qdd):
-        raise checks.overflow("the accelerations", {
-            "state.nu": nu, "state.qd": qd, "joint_torques": tau, "body_wrench": f_body, "ee_wrench": f_ee,
-            "current": env.current, "fluid_acceleration": env.fluid_acceleration})
-    return Accelerations(nu_dot=nu_dot, qdd=qdd)
+    """Accelerations of the vehicle and the arm (:meth:`Dynamics.forward`); ``fixed_base`` clamps the vehicle."""
+    if fixed_base is not False:
+        dyn = Dynamics(model, fixed_base=fixed_base) if checks.flag(fixed_base, "fixed_base") else dynamics_of(model)
+    else:
+        dyn = dynamics_of(model)
+    return dyn.forward(state, joint_torques=joint_torques, body_wrench=body_wrench, ee_wrench=ee_wrench,
+                       current=current, fluid_acceleration=fluid_acceleration)
 
 
 def inverse_dynamics(model, state, *, nu_dot, qdd, ee_wrench=None, current=None,
                      fluid_acceleration=None) -> tuple[np.ndarray, np.ndarray]:
-    """The vehicle wrench (6,) and joint torques (n,) that produce ``nu_dot`` and ``qdd`` (RNEA)."""
-    R0, nu, q, qd = _state_arrays(model, state, False)
-    n = model.n_joints
-    env = _environment(model, current, fluid_acceleration)
-    f0 = np.zeros(6)
-    tau = np.zeros(n)
-    a0, qdd, f_ee = (checks.vector(nu_dot, 6, "nu_dot"), checks.vector(qdd, n, "qdd", _PER_JOINT),
-                     _vec(ee_wrench, 6, "ee_wrench", _WRENCH))
-    _call(rnea, model.kernel, _workspace(model.n_bodies), R0, nu, q, qd, a0, qdd, f_ee, env.current,
-          env.fluid_acceleration, f0, tau)
-    total = sum(f0.tolist()) + sum(tau.tolist())  # any NaN or inf makes the sum one: fast test
-    if total - total != 0.0 and not checks.finite(f0, tau):
-        raise checks.overflow("the wrench and torques", {
-            "state.nu": nu, "state.qd": qd, "nu_dot": a0, "qdd": qdd, "ee_wrench": f_ee, "current": env.current,
-            "fluid_acceleration": env.fluid_acceleration})
-    return f0, tau
+    """The vehicle wrench (6,) and joint torques (n,) that produce ``nu_dot`` and ``qdd`` (:meth:`Dynamics.inverse`)."""
+    return dynamics_of(model).inverse(state, nu_dot=nu_dot, qdd=qdd, ee_wrench=ee_wrench, current=current,
+                                      fluid_acceleration=fluid_acceleration)
 
 
 def mass_matrix(model, state) -> np.ndarray:
-    """Joint-space inertia matrix ``M`` (6+n, 6+n) of ``[nu; qd]``, added mass included (CRBA)."""
-    checks.state(model, state)
-    M = np.zeros((model.n_dof, model.n_dof))
-    _call(crba, model.kernel, _workspace(model.n_bodies), np.array(state.q, dtype=float), M)
-    return M
+    """Joint-space inertia matrix ``M`` (6+n, 6+n) of ``[nu; qd]``, added mass included (:meth:`Dynamics.mass_matrix`)."""
+    return dynamics_of(model).mass_matrix(state)
 
 
 def bias_forces(model, state, *, current=None, fluid_acceleration=None) -> np.ndarray:

@@ -1,15 +1,22 @@
-"""The owner of the compiled model data: Pinocchio's ``(model, data)`` pair for compiled code.
+"""The owner of the compiled plant: Pinocchio's ``(model, data)`` and MuJoCo's ``(mjModel, mjData)`` for uvms.
 
-A :class:`ModelData` couples a model's constant kernel arrays (:class:`~uvms.dynamics.kernel_model.KernelModel`,
-``body``) with the scratch it needs (:class:`~uvms.dynamics.kernel_model.Workspace`, ``work``). Compiled code
-outside ``uvms.dynamics`` (controllers, arm trackers, the simulation loop) reaches the three algorithms only
-through the wrappers below, each taking one ``ModelData``:
+Two levels, one owner:
 
-- :func:`forward_into`: the articulated-body algorithm with hydrodynamics (paper Eqs. 13-23),
-- :func:`inverse_into`: the recursive Newton-Euler algorithm (the inverse dynamics, Featherstone Table 5.1),
-- :func:`mass_matrix_into`: the composite-rigid-body algorithm (``M`` of ``[nu; qd]``, added mass included).
+- :class:`ModelData` couples a model's constant kernel arrays (:class:`~uvms.dynamics.kernel_model.KernelModel`,
+  ``body``) with the scratch they need (:class:`~uvms.dynamics.kernel_model.Workspace`, ``work``). Compiled code
+  outside ``uvms.dynamics`` (controllers, arm trackers) reaches the three algorithms only through the wrappers
+  :func:`forward_into` (articulated-body algorithm with hydrodynamics, paper Eqs. 13-23), :func:`inverse_into`
+  (recursive Newton-Euler, Featherstone Table 5.1) and :func:`mass_matrix_into` (composite rigid body).
+- :class:`Plant` is what the simulation integrates: the model data, the actuators (thruster layout), the
+  world current as a :class:`FluidTable`, the integrator's scratch, whether the vehicle is clamped, and the
+  sane-state bounds. It is a numba *structure reference*: passed from Python to a compiled function it costs
+  one pointer, not the ~50 arrays inside it, so Python may call the compiled code often (the step API, the
+  checked :class:`Dynamics`). Inputs held between two updates travel beside it as :class:`Held`.
 
-One ``ModelData`` serves one thread at a time (its workspace is overwritten by every call).
+:class:`Dynamics` is the Python owner: it builds a plant once for a model, checks every argument of its
+methods (types, shapes, finiteness: :class:`~uvms.errors.UvmsInputError` naming the argument), and is the one
+object through which the package's Python code evaluates the dynamics. One ``ModelData``, ``Plant`` or
+``Dynamics`` serves one thread at a time (their workspaces are overwritten by every call).
 """
 
 from __future__ import annotations
@@ -17,12 +24,17 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.experimental import structref
 
 from uvms.dynamics.aba import aba
 from uvms.dynamics.crba import crba
 from uvms.dynamics.kernel_model import KernelModel, Workspace, make_workspace
 from uvms.dynamics.rnea import rnea
+from uvms.kinematics import quaternion_to_rotation
+
+DEFAULT_BOUNDS = np.array([1e4, 1e3, 1e3, 1e6])
+"""Sane-state limits for divergence detection: |position| [m], |nu| [rad/s, m/s], |qd| [rad/s], |actuator|."""
 
 
 class ModelData(NamedTuple):
@@ -32,12 +44,94 @@ class ModelData(NamedTuple):
     work: Workspace
 
 
+class FluidTable(NamedTuple):
+    """World-frame current velocity [m/s] and fluid acceleration [m/s^2] at ``times`` [s], linear in between
+    and held outside (a constant current is one row)."""
+
+    times: np.ndarray           # (K,)
+    velocity: np.ndarray        # (K, 3)
+    acceleration: np.ndarray    # (K, 3)
+
+
+class Held(NamedTuple):
+    """Inputs held constant between two updates (zero-order hold); written in place by the loop."""
+
+    joint_torques: np.ndarray   # (n,) [N m or N]
+    body_wrench: np.ndarray     # (6,) external wrench on the vehicle [moment; force], body axes
+    ee_wrench: np.ndarray       # (6,) spatial force on the end effector, end-effector axes
+    command: np.ndarray         # (max(m, 6),) actuator commands (the body wrench itself with no thrusters)
+
+
+class StepScratch(NamedTuple):
+    """The integrator's scratch (never allocated inside the loop)."""
+
+    R: np.ndarray               # (3, 3) body-to-world rotation of the stage's quaternion
+    vecs: np.ndarray            # (5, 6): the actuators' body wrench, current, fluid acceleration, nu
+    thrust: np.ndarray          # (max(m, 1),) thrusts [N]
+    stages: np.ndarray          # (6, N): RK4's k1..k4, the stage state, one spare derivative
+
+
+@structref.register
+class PlantType(types.StructRef):
+    """numba type of :class:`Plant`."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+
+
+class Plant(structref.StructRefProxy):
+    """The compiled data of a simulation (module docstring). Build with :func:`build_plant`; Python reads its
+    parts from the :class:`Dynamics` that made it (attribute access on the proxy is compiled code)."""
+
+
+structref.define_proxy(Plant, PlantType, ["body", "work", "actuators", "fluid", "scratch", "fixed_base", "bounds"])
+
+
+@njit(cache=True)
+def _new_plant(body, work, actuators, fluid, scratch, fixed_base, bounds):
+    return Plant(body, work, actuators, fluid, scratch, fixed_base, bounds)
+
+
 def model_data(model) -> ModelData:
     """A :class:`ModelData` of a :class:`~uvms.model.Model` with a fresh workspace. The kernel arrays are
     copied so that they are writeable (numba types read-only arrays differently: one compiled type for all)."""
     km = model.kernel
     body = KernelModel(*[np.array(a) if isinstance(a, np.ndarray) else a for a in km])
     return ModelData(body=body, work=make_workspace(model.n_bodies))
+
+
+def fluid_table(times, velocity, acceleration) -> FluidTable:
+    """A :class:`FluidTable` of fresh C-ordered float64 arrays."""
+    return FluidTable(np.array(times, dtype=float, order="C").reshape(-1),
+                      np.array(velocity, dtype=float, order="C").reshape(-1, 3),
+                      np.array(acceleration, dtype=float, order="C").reshape(-1, 3))
+
+
+def build_plant(model, *, thrusters: tuple = (), fluid: FluidTable | None = None, fixed_base: bool = False,
+                bounds: np.ndarray = DEFAULT_BOUNDS) -> tuple[Plant, ModelData]:
+    """The :class:`Plant` of ``model`` with a thruster layout (empty: ideal body-wrench actuation), a current
+    table (default: the model's constant environment) and a clamped or free vehicle; also returns its
+    :class:`ModelData` (the same arrays, for Python-side reading)."""
+    from uvms.thrusters.actuation import actuator_kernel, n_actuator_states
+
+    md = model_data(model)
+    actuators = actuator_kernel(tuple(thrusters))
+    if fluid is None:
+        fluid = fluid_table([0.0], [model.current], [model.fluid_acceleration])
+    size = 13 + 2 * model.n_joints + n_actuator_states(actuators)
+    scratch = StepScratch(R=np.zeros((3, 3)), vecs=np.zeros((5, 6)), thrust=np.zeros(max(len(thrusters), 1)),
+                          stages=np.zeros((6, size)))
+    plant = _new_plant(md.body, md.work, actuators, fluid, scratch, bool(fixed_base),
+                       np.array(bounds, dtype=float))
+    return plant, md
+
+
+def held_inputs(n_joints: int, n_thrusters: int) -> Held:
+    """Zero :class:`Held` inputs for ``n_joints`` joints and ``n_thrusters`` thrusters."""
+    return Held(np.zeros(n_joints), np.zeros(6), np.zeros(6), np.zeros(max(n_thrusters, 6)))
+
+
+# ------------------------------------------------------------------------------------- compiled entry points
 
 
 @njit(cache=True, nogil=True)
@@ -57,3 +151,36 @@ def inverse_into(md, R, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f0, ta
 def mass_matrix_into(md, q, M):
     """The joint-space inertia ``M`` (6+n, 6+n) at joint angles ``q`` (:func:`uvms.dynamics.crba.crba`)."""
     crba(md.body, md.work, q, M)
+
+
+@njit(cache=True)
+def _rotation(plant, quaternion):
+    R = plant.scratch.R
+    qw, qx, qy, qz = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
+    s = 1.0 / np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+    quaternion_to_rotation(qw * s, qx * s, qy * s, qz * s, R)
+    return R
+
+
+@njit(cache=True)
+def plant_forward(plant, quaternion, nu, q, qd, tau, f_body, f_ee, env, fixed_base, nu_dot, qdd):
+    """:func:`forward_into` for a state given by its quaternion; ``env`` (2, 3) holds the world-frame current
+    [m/s] and fluid acceleration [m/s^2]."""
+    R = _rotation(plant, quaternion)
+    aba(plant.body, plant.work, R, nu, q, qd, tau, f_body, f_ee, env[0], env[1], fixed_base, nu_dot, qdd)
+
+
+@njit(cache=True)
+def plant_inverse(plant, y, u, out):
+    """``out = [f_0 (6) | tau (n)]`` by :func:`inverse_into` for the packed pose ``y`` and
+    ``u = [nu_dot (6) | qdd (n) | end-effector wrench (6) | current (3) | fluid acceleration (3)]``."""
+    n = (y.shape[0] - 10) // 2
+    R = _rotation(plant, y[0:4])
+    rnea(plant.body, plant.work, R, y[4:10], y[10:10 + n], y[10 + n:10 + 2 * n], u[0:6], u[6:6 + n],
+         u[6 + n:12 + n], u[12 + n:15 + n], u[15 + n:18 + n], out[0:6], out[6:6 + n])
+
+
+@njit(cache=True)
+def plant_mass_matrix(plant, q, M):
+    """:func:`mass_matrix_into` on the plant's model."""
+    crba(plant.body, plant.work, q, M)

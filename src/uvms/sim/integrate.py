@@ -15,24 +15,53 @@ tables in time, interpolated linearly at every stage (a constant current is a on
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
 from uvms.dynamics.aba import aba
 from uvms.kinematics import quaternion_to_rotation
-from uvms.sim.actuation import actuator_rates
 from uvms.state import State
+from uvms.thrusters.actuation import actuator_rates
 
-P, QUAT, NU, JOINTS = 0, 3, 7, 13
 
-STATUS_OK, STATUS_NONFINITE, STATUS_BOUND = 0, 1, 2
+class StateLayout:
+    """The one owner of the state vector's layout: slices, size and quantity names for ``n_joints`` joints and
+    ``n_actuator`` actuator states (compiled code uses the same offsets: 0, 3, 7, 13, 13 + n, 13 + 2 n)."""
+
+    POSITION, QUATERNION, NU, JOINTS = slice(0, 3), slice(3, 7), slice(7, 13), 13
+    _NAMES = ("x", "y", "z", "qw", "qx", "qy", "qz", "p (roll rate)", "q (pitch rate)", "r (yaw rate)",
+              "u (surge velocity)", "v (sway velocity)", "w (heave velocity)")
+
+    def __init__(self, n_joints: int, n_actuator: int = 0) -> None:
+        self.n_joints, self.n_actuator = int(n_joints), int(n_actuator)
+        n = self.n_joints
+        self.q = slice(13, 13 + n)
+        self.qd = slice(13 + n, 13 + 2 * n)
+        self.actuator = slice(13 + 2 * n, 13 + 2 * n + self.n_actuator)
+        self.size = 13 + 2 * n + self.n_actuator
+
+    def slices(self) -> dict[str, slice]:
+        """Every field's slice, by :class:`~uvms.state.State` field name."""
+        return {"position": self.POSITION, "quaternion": self.QUATERNION, "nu": self.NU, "q": self.q,
+                "qd": self.qd, "actuator": self.actuator}
+
+    def quantity_name(self, index: int) -> str:
+        """What entry ``index`` of the state vector is (for messages)."""
+        n = self.n_joints
+        if index < 13:
+            return self._NAMES[index]
+        if index < 13 + n:
+            return f"q{index - 12}"
+        if index < 13 + 2 * n:
+            return f"qd{index - 12 - n}"
+        return f"actuator state {index - 13 - 2 * n}"
 
 
 def layout(n_joints: int, n_actuator: int) -> dict[str, slice]:
-    """Slices of the state vector."""
-    n = n_joints
-    return {"position": slice(0, 3), "quaternion": slice(3, 7), "nu": slice(7, 13), "q": slice(13, 13 + n),
-            "qd": slice(13 + n, 13 + 2 * n), "actuator": slice(13 + 2 * n, 13 + 2 * n + n_actuator)}
+    """Slices of the state vector (:meth:`StateLayout.slices`)."""
+    return StateLayout(n_joints, n_actuator).slices()
 
 
 def pack(state) -> np.ndarray:
@@ -56,6 +85,21 @@ def unpack(x: np.ndarray, n_joints: int):
     c = x.copy()
     c.flags.writeable = False
     return State.trusted(c[0:3], c[3:7], c[7:13], c[13:13 + n], c[13 + n:13 + 2 * n], c[13 + 2 * n:])
+
+
+class Samples(NamedTuple):
+    """Where the compiled loop records the state: every ``every``-th global step, ``times[k]``, ``states[k]``;
+    ``count[0]`` rows written so far."""
+
+    every: int
+    times: np.ndarray           # (K,) [s]
+    states: np.ndarray          # (K, N)
+    count: np.ndarray           # (1,) int64
+
+
+def samples(n_rows: int, size: int, every: int) -> Samples:
+    """Empty :class:`Samples` of ``n_rows`` rows of states of ``size``."""
+    return Samples(int(every), np.zeros(n_rows), np.zeros((n_rows, size)), np.zeros(1, dtype=np.int64))
 
 
 @njit(cache=True)
@@ -84,10 +128,14 @@ def interpolate(table_t, table_v, t, out):
 
 
 @njit(cache=True, inline="always")
-def state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, command, env_t, env_vc, env_af, fixed_base, xdot,
-                     R, vecs, thrust):
-    """``xdot = f(t, x)`` for held inputs. ``R`` (3x3), ``vecs`` (5, 6) and ``thrust`` (m) are scratch."""
-    nb = km.parent.shape[0]
+def state_derivative(plant, held, t, x, xdot):
+    """``xdot = f(t, x)`` for the held inputs (:class:`~uvms.dynamics.plant.Held`) on the plant
+    (:class:`~uvms.dynamics.plant.Plant`; its scratch is used)."""
+    body = plant.body
+    scratch = plant.scratch
+    R = scratch.R
+    vecs = scratch.vecs
+    nb = body.parent.shape[0]
     n = nb - 1
     qw, qx, qy, qz = x[3], x[4], x[5], x[6]
     norm = np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
@@ -95,18 +143,20 @@ def state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, command, env_t, env_vc
     quaternion_to_rotation(qw, qx, qy, qz, R)
     a0 = 13 + 2 * n
     f_body = vecs[0]
-    actuator_rates(act, x[a0:], command, f_body, xdot[a0:], thrust)
+    actuator_rates(plant.actuators, x[a0:], held.command, f_body, xdot[a0:], scratch.thrust)
     for k in range(6):
-        f_body[k] += f_ext[k]
+        f_body[k] += held.body_wrench[k]
     vc = vecs[1]
     af = vecs[2]
-    interpolate(env_t, env_vc, t, vc)
-    interpolate(env_t, env_af, t, af)
+    fluid = plant.fluid
+    interpolate(fluid.times, fluid.velocity, t, vc)
+    interpolate(fluid.times, fluid.acceleration, t, af)
     nu = vecs[3]
+    fixed_base = plant.fixed_base
     for k in range(6):
         nu[k] = 0.0 if fixed_base else x[7 + k]
-    aba(km, ws, R, nu, x[13:13 + n], x[13 + n:13 + 2 * n], tau, f_body, f_ee, vc, af, fixed_base, xdot[7:13],
-        xdot[13 + n:13 + 2 * n])
+    aba(body, plant.work, R, nu, x[13:13 + n], x[13 + n:13 + 2 * n], held.joint_torques, f_body, held.ee_wrench,
+        vc, af, fixed_base, xdot[7:13], xdot[13 + n:13 + 2 * n])
     w0, w1, w2 = nu[0], nu[1], nu[2]
     for r in range(3):
         xdot[r] = R[r, 0] * nu[3] + R[r, 1] * nu[4] + R[r, 2] * nu[5]
@@ -116,6 +166,12 @@ def state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, command, env_t, env_vc
     xdot[6] = 0.5 * (qw * w2 + qx * w1 - qy * w0)
     for j in range(n):
         xdot[13 + j] = x[13 + n + j]
+
+
+@njit(cache=True)
+def derivative(plant, held, t, x, xdot):
+    """:func:`state_derivative`, callable from Python (the adaptive integrators, sensor models)."""
+    state_derivative(plant, held, t, x, xdot)
 
 
 @njit(cache=True)
@@ -144,45 +200,40 @@ def check_state(x, n, bounds):
     return 0
 
 
-@njit(cache=True)
-def rk4(km, ws, act, x, t0, h, n_steps, step0, record_every, tau, f_ext, f_ee, command, env_t, env_vc, env_af,
-        fixed_base, bounds, out_t, out_x, n_out):
+@njit(cache=True, nogil=True)
+def rk4(plant, held, x, t0, h, n_steps, step0, record):
     """Advance ``x`` (in place) by ``n_steps`` classical RK4 steps of size ``h``, from global step ``step0``.
 
     ``t0`` is the time of global step 0: step ``k`` starts at ``t0 + k h``, the same floating-point value
     however a run is cut into calls (a long run is integrated in several calls, :data:`uvms.sim.run.CHUNK_SECONDS`).
-    Whenever the global step count ``step0 + k`` is a multiple of ``record_every`` the time and state are
-    written to ``out_t[n_out]``, ``out_x[n_out]``.
-    Returns ``(steps_done, n_out, code)``: ``code`` is 0, or the :func:`check_state` code of the first bad step.
+    Whenever the global step count ``step0 + k`` is a multiple of ``record.every`` the time and state are
+    written to the next row of ``record`` (:class:`Samples`).
+    Returns ``(steps_done, code)``: ``code`` is 0, or the :func:`check_state` code of the first bad step.
     """
     N = x.shape[0]
-    n = km.parent.shape[0] - 1
-    k1 = np.empty(N)
-    k2 = np.empty(N)
-    k3 = np.empty(N)
-    k4 = np.empty(N)
-    xt = np.empty(N)
-    R = np.empty((3, 3))
-    vecs = np.empty((5, 6))
-    thrust = np.empty(max(act.kind.shape[0], 1))
-    for k in range(N):
-        k1[k] = k2[k] = k3[k] = k4[k] = 0.0
+    n = plant.body.parent.shape[0] - 1
+    stages = plant.scratch.stages
+    k1 = stages[0]
+    k2 = stages[1]
+    k3 = stages[2]
+    k4 = stages[3]
+    xt = stages[4]
+    bounds = plant.bounds
+    every = record.every
+    out_t = record.times
+    out_x = record.states
     for step in range(n_steps):
         t = t0 + (step0 + step) * h
-        state_derivative(km, ws, act, x, t, tau, f_ext, f_ee, command, env_t, env_vc, env_af, fixed_base, k1,
-                         R, vecs, thrust)
+        state_derivative(plant, held, t, x, k1)
         for k in range(N):
             xt[k] = x[k] + 0.5 * h * k1[k]
-        state_derivative(km, ws, act, xt, t + 0.5 * h, tau, f_ext, f_ee, command, env_t, env_vc, env_af,
-                         fixed_base, k2, R, vecs, thrust)
+        state_derivative(plant, held, t + 0.5 * h, xt, k2)
         for k in range(N):
             xt[k] = x[k] + 0.5 * h * k2[k]
-        state_derivative(km, ws, act, xt, t + 0.5 * h, tau, f_ext, f_ee, command, env_t, env_vc, env_af,
-                         fixed_base, k3, R, vecs, thrust)
+        state_derivative(plant, held, t + 0.5 * h, xt, k3)
         for k in range(N):
             xt[k] = x[k] + h * k3[k]
-        state_derivative(km, ws, act, xt, t + h, tau, f_ext, f_ee, command, env_t, env_vc, env_af, fixed_base,
-                         k4, R, vecs, thrust)
+        state_derivative(plant, held, t + h, xt, k4)
         for k in range(N):
             x[k] += h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k])
         norm = np.sqrt(x[3] ** 2 + x[4] ** 2 + x[5] ** 2 + x[6] ** 2)
@@ -190,10 +241,11 @@ def rk4(km, ws, act, x, t0, h, n_steps, step0, record_every, tau, f_ext, f_ee, c
             x[k] /= norm
         code = check_state(x, n, bounds)
         if code != 0:
-            return step + 1, n_out, code
-        if (step0 + step + 1) % record_every == 0 and n_out < out_t.shape[0]:
+            return step + 1, code
+        n_out = record.count[0]
+        if (step0 + step + 1) % every == 0 and n_out < out_t.shape[0]:
             out_t[n_out] = t0 + (step0 + step + 1) * h
             for k in range(N):
                 out_x[n_out, k] = x[k]
-            n_out += 1
-    return n_steps, n_out, 0
+            record.count[0] = n_out + 1
+    return n_steps, 0

@@ -1,0 +1,155 @@
+"""Batched rollouts: N closed-loop trajectories at once, in threads without the GIL (MuJoCo's ``rollout`` is
+the anchor).
+
+Each :class:`Trial` may differ from the others in its initial state, the plant's hydrodynamic scale factors
+(model error), the current, the joint-torque input and the controller (its parameters); everything else is
+shared. Every trial is prepared as :func:`uvms.simulate` prepares a run (:class:`~uvms.sim.plan.RunPlan`), then
+the compiled loops (:func:`uvms.sim.compiled_loop.advance_loop`, ``nogil``) run in a pool of threads, and each
+trajectory is labelled as ``simulate`` labels its run: a trial's result is the same as its ``simulate`` run, to
+the last bit.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, replace
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from uvms import checks
+from uvms.sim.options import Inputs, grouped
+from uvms.sim.plan import RunPlan, Timing
+from uvms.sim.result import Result
+from uvms.state import State
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One trajectory of a batch; ``None`` fields take the batch's shared value.
+
+    Attributes:
+        initial_state: the state at ``t = 0`` (default: at rest at the origin).
+        hydro_scale: ``(added_mass, drag)`` factors of the *plant's* hydrodynamics (one number: both), e.g. a
+            model error of the real vehicle against its description.
+        current: the world current (as :class:`~uvms.sim.options.Inputs.current`).
+        joint_torques: the joint-torque input (as :class:`~uvms.sim.options.Inputs.joint_torques`).
+        controller: this trajectory's own controller (e.g. other parameters).
+    """
+
+    initial_state: State | None = None
+    hydro_scale: float | tuple[float, float] | None = None
+    current: Any = None
+    joint_torques: Any = None
+    controller: Any = None
+
+
+@dataclass(frozen=True, eq=False)
+class Batch:
+    """The labelled result of :func:`rollout`: one :class:`~uvms.sim.result.Result` per trial, in order."""
+
+    results: tuple[Result, ...]
+    metadata: dict
+
+    def __len__(self) -> int:
+        return len(self.results)
+
+    def __getitem__(self, k: int) -> Result:
+        return self.results[k]
+
+    def __repr__(self) -> str:
+        done = sum(r.complete for r in self.results)
+        return (f"Batch({len(self.results)} trajectories, {done} complete, "
+                f"{self.metadata.get('wall_time_s', 0.0):.3g} s on {self.metadata.get('threads')} threads)")
+
+    @property
+    def complete(self) -> np.ndarray:
+        """(N,) whether each trajectory ran to the end."""
+        return np.array([r.complete for r in self.results])
+
+    @property
+    def time(self) -> np.ndarray:
+        """(K,) the common sample times of complete trajectories [s]."""
+        return self.results[0].time
+
+    @property
+    def states(self) -> np.ndarray:
+        """(N, K, size) every trajectory's states (all must be complete, on one grid)."""
+        if not self.complete.all():
+            raise checks.fail("states", "expected complete trajectories only (see Batch.complete)")
+        return np.stack([r.states for r in self.results])
+
+    def summary(self):
+        """One row per trajectory: :meth:`uvms.sim.result.Result.summary` as a pandas DataFrame."""
+        import pandas as pd
+
+        return pd.DataFrame([r.summary() for r in self.results])
+
+
+def _trial_plan(model, trial: Trial, shared: tuple, timing: Timing) -> RunPlan:
+    controller, actuation, inputs, integrator, recording = shared
+    if not isinstance(trial, Trial):
+        raise checks.fail("trials", f"expected uvms States or Trials, got {checks.show(trial)}")
+    plant_model = model
+    if trial.hydro_scale is not None:
+        a, d = np.broadcast_to(np.asarray(trial.hydro_scale, dtype=float), (2,))
+        plant_model = model.with_hydrodynamics_scaled(added_mass=float(a), drag=float(d))
+    changes = {k: v for k, v in (("current", trial.current), ("joint_torques", trial.joint_torques)) if v is not None}
+    plan = RunPlan.build(plant_model, trial.initial_state, timing,
+                         (trial.controller if trial.controller is not None else controller, actuation),
+                         (replace(inputs, **changes), integrator, recording))
+    return plan
+
+
+def rollout(model, trials: Sequence[Trial | State], *, duration: float, step: float = 1e-3, controller=None,
+            actuation=None, inputs: Inputs | None = None, **options) -> "Batch":
+    """Run every trial (a :class:`Trial`, or just an initial :class:`~uvms.state.State`) for ``duration``
+    seconds and return a labelled :class:`Batch`.
+
+    Args:
+        controller, actuation, inputs: shared by the trials (as :func:`uvms.simulate`'s).
+        options: ``threads=`` (default: the machine's cores), ``progress=`` a callable ``progress(done, total)``
+            called as trajectories finish, and :func:`uvms.simulate`'s recording keywords (``record_period=``
+            ...). The controllers must be bundled ones (compiled); a Python controller runs with ``simulate``.
+    """
+    import os
+
+    from uvms.sim.compiled_loop import advance_loop, compilable, compiled_run, CompiledLog
+    from uvms.sim.loop import Outcome
+    from uvms.sim.record import result_of
+
+    wall0 = _time.perf_counter()
+    checks.model(model)
+    timing = Timing.of(duration, step)
+    threads = checks.count(options.pop("threads", os.cpu_count() or 1), "threads", minimum=1)
+    progress: Callable[[int, int], None] | None = options.pop("progress", None)
+    checks.callable_or_none(progress, "progress", "progress(done, total)")
+    if isinstance(trials, (State, Trial)) or not isinstance(trials, Sequence) or not len(trials):
+        raise checks.fail("trials", f"expected a non-empty list of States or Trials, got {checks.show(trials)}")
+    shared = (controller, actuation, *grouped(inputs, "rk4", None, options))
+    plans = [_trial_plan(model, Trial(initial_state=t) if isinstance(t, State) else t, shared, timing)
+             for t in trials]
+    for k, plan in enumerate(plans):
+        if not compilable(plan):
+            raise checks.fail(f"trials[{k}]", "expected bundled controllers and arm inputs (compiled); run a Python "
+                                              "controller or arm with uvms.simulate")
+    runs = [compiled_run(plan) for plan in plans]
+    finished = [0]
+
+    def one(k: int):
+        tic = _time.perf_counter()
+        done, code = advance_loop(runs[k].loop, 0, timing.n_total)
+        return Outcome(done, code), _time.perf_counter() - tic
+
+    outcomes = []
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        for outcome in pool.map(one, range(len(plans))):
+            outcomes.append(outcome)
+            finished[0] += 1
+            if progress is not None:
+                progress(finished[0], len(plans))
+    results = tuple(result_of(plan, outcome, CompiledLog(run.log, run.signal_names), _time.perf_counter() - seconds)
+                    for plan, run, (outcome, seconds) in zip(plans, runs, outcomes))
+    return Batch(results, {"threads": threads, "trajectories": len(plans),
+                           "wall_time_s": _time.perf_counter() - wall0})

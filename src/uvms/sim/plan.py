@@ -1,0 +1,236 @@
+"""A run, prepared: the checked and normalised options of :func:`uvms.simulate` and the compiled plant they
+drive (:class:`RunPlan`). Building the plan is the only place where inputs are normalised (a torque schedule,
+a callable or a constant; a current table, a callable or a constant) and where the plant is assembled; the
+loops in :mod:`uvms.sim.loop` only advance it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from uvms import checks
+from uvms.dynamics.plant import FluidTable, Held, Plant, build_plant, fluid_table, held_inputs
+from uvms.sim.inputs import CurrentTable, TorqueSchedule
+from uvms.sim.integrate import Samples, StateLayout, pack, samples
+from uvms.sim.options import Actuation, Adaptive, Inputs, Recording, Rk4
+from uvms.state import State
+
+MAX_STEPS = 10**9
+"""Largest number of steps in one run (duration / step): ~3 hours of computing at 10 us per step."""
+
+MAX_SAMPLES = 20000
+"""Default largest number of recorded samples of a run (``Recording.period`` unset)."""
+
+
+def check_steps(duration: float, step: float) -> int:
+    """The number of steps of a run, ``round(duration / step)``; :class:`~uvms.errors.UvmsInputError` (a
+    ``ValueError``) naming the argument unless both are positive finite numbers giving 1 to :data:`MAX_STEPS`."""
+    duration = checks.number(duration, "duration", positive=True, unit="s, at least one step")
+    step = checks.number(step, "step", positive=True, unit="s")
+    n = duration / step
+    if not 0.5 <= n <= MAX_STEPS:
+        raise checks.fail("step", f"expected 1 to {MAX_STEPS:.0e} steps of {step:g} s in {duration:g} s, "
+                                  f"found {n:.3g}")
+    return int(round(n))
+
+
+@dataclass(frozen=True)
+class Timing:
+    """The step grid of a run: ``n_total`` steps of ``h`` seconds in ``duration``."""
+
+    duration: float
+    h: float
+    n_total: int
+
+    @classmethod
+    def of(cls, duration, step) -> "Timing":
+        n_total = check_steps(duration, step)
+        return cls(float(duration), float(duration) / n_total, n_total)
+
+    def steps_of(self, period: float) -> int:
+        """A period [s] in whole steps (at least one)."""
+        return max(1, int(round(period / self.h)))
+
+
+def checked_inputs(model, inputs: Inputs) -> Inputs:
+    """``inputs`` with each field checked and normalised (constants to float64 arrays)."""
+    n = model.n_joints
+    tau = inputs.joint_torques
+    if isinstance(tau, TorqueSchedule):
+        if tau.torques.shape[1] != n:
+            raise checks.fail("joint_torques", f"expected a schedule of {n} torques per row (one per joint: the model "
+                                               f"has {n} joints), got {tau.torques.shape[1]}")
+        checks.matrix(tau.torques, None, n, "joint_torques", " [N m]")
+    elif tau is not None and not callable(tau):
+        tau = checks.vector(tau, n, "joint_torques", " (one per joint)")
+    current = inputs.current
+    if not (current is None or isinstance(current, CurrentTable) or callable(current)):
+        current = checks.vector(current, 3, "current", " (world frame, m/s)")
+    return Inputs(joint_torques=tau,
+                  body_wrench=checks.optional_vector(inputs.body_wrench, 6, "body_wrench", " [moment; force]"),
+                  ee_wrench=checks.optional_vector(inputs.ee_wrench, 6, "ee_wrench", " [moment; force]"),
+                  current=current, fixed_base=checks.flag(inputs.fixed_base, "fixed_base"),
+                  control_period=checks.optional_number(inputs.control_period, "control_period", positive=True,
+                                                        unit="s"))
+
+
+def checked_recording(recording: Recording) -> Recording:
+    """``recording`` with each field checked (bounds as float64)."""
+    try:
+        limits = np.asarray(recording.bounds) if not isinstance(recording.bounds, (str, bytes)) else None
+    except (ValueError, TypeError):
+        limits = None
+    if limits is None or limits.dtype.kind not in "biuf" or limits.shape != (4,) or not np.all(limits > 0):
+        raise checks.fail("bounds", f"expected 4 positive limits (|position|, |nu|, |qd|, |actuator|), got "
+                                    f"{checks.show(recording.bounds)}")
+    checks.callable_or_none(recording.progress, "progress", "progress(t, duration)")
+    if recording.metadata is not None and not isinstance(recording.metadata, dict):
+        raise checks.fail("metadata", f"expected None or a dict, got {checks.show(recording.metadata)}")
+    return Recording(period=checks.optional_number(recording.period, "record_period", positive=True, unit="s"),
+                     progress=recording.progress, metadata=recording.metadata,
+                     bounds=np.array(limits, dtype=np.float64))
+
+
+def checked_control(controller, actuation) -> Actuation:
+    """The controller is ``None`` or has ``update(measurement)``; the actuation (default ideal) is checked."""
+    if controller is not None and not callable(getattr(controller, "update", None)):
+        raise checks.fail("controller", f"expected None or a controller with update(measurement), got "
+                                        f"{checks.show(controller)}")
+    if actuation is not None and not isinstance(actuation, Actuation):
+        raise checks.fail("actuation", f"expected None or an Actuation (e.g. Actuation.named('paper')), got "
+                                       f"{checks.show(actuation)}")
+    if actuation is not None:
+        from uvms.thrusters.layouts import Thruster
+
+        thrusters = actuation.thrusters
+        if not isinstance(thrusters, tuple) or not all(isinstance(t, Thruster) for t in thrusters):
+            raise checks.fail("actuation", f"expected thrusters that are uvms Thruster descriptions, got "
+                                           f"{checks.show(thrusters)}")
+    return actuation or Actuation()
+
+
+def current_table(model, current, timing: Timing) -> FluidTable:
+    """The run's current as a compiled table: the model's environment, a table, a callable sampled on the
+    half-step grid (RK4 sees it exactly at every stage), or a constant."""
+    if current is None:
+        table = CurrentTable.constant(model.current, model.fluid_acceleration)
+    elif isinstance(current, CurrentTable):
+        table = current
+    elif callable(current):
+        table = CurrentTable.from_function(
+            lambda t: checks.returned_vector(current(t), 3, "current", " (world frame, m/s)", t), timing.duration,
+            timing.h)
+    else:
+        table = CurrentTable.constant(current, model.fluid_acceleration)
+    return fluid_table(table.times, table.velocity, table.acceleration)
+
+
+class ArmInput:
+    """The joint torques of a run as a function of time and state: none, constant, a schedule (breakpoints
+    snapped to the nearest step) or a callable arm controller held over its period."""
+
+    def __init__(self, joint_torques, n: int, timing: Timing, control_period: float | None) -> None:
+        self.source, self.n, self.h = joint_torques, n, timing.h
+        self.is_callable = callable(joint_torques) and not isinstance(joint_torques, TorqueSchedule)
+        period = control_period or getattr(joint_torques, "period", None) or 0.01
+        self.every = timing.steps_of(period) if self.is_callable else 0
+        self.breakpoints = ([int(round(tb / self.h)) for tb in joint_torques.breakpoints()
+                             if 0 < tb < timing.duration] if isinstance(joint_torques, TorqueSchedule) else [])
+
+    def due(self, done: int) -> bool:
+        """Whether the torques are re-evaluated at step ``done`` (every event, or the arm's period)."""
+        return not self.is_callable or done % self.every == 0
+
+    def __call__(self, t: float, state: State) -> np.ndarray:
+        src = self.source
+        if src is None:
+            return np.zeros(self.n)
+        if isinstance(src, TorqueSchedule):                 # breakpoints snap to the nearest step
+            return np.array(src(t + 0.5 * self.h), dtype=float).reshape(self.n)
+        if self.is_callable:
+            return checks.returned_vector(src(t, state), self.n, "joint_torques", " (one per joint)", t)
+        return src
+
+
+@dataclass
+class RunPlan:
+    """Everything a loop needs, built once by :meth:`build` (module docstring)."""
+
+    model: Any
+    timing: Timing
+    layout: StateLayout
+    plant: Plant
+    held: Held
+    x: np.ndarray
+    samples: Samples
+    arm: ArmInput
+    controller: Any
+    control_every: int
+    thrusters: tuple
+    fixed_base: bool
+    integrator: Rk4 | Adaptive
+    recording: Recording
+
+    @classmethod
+    def build(cls, model, initial_state, timing: Timing, control: tuple, options: tuple) -> "RunPlan":
+        """``control = (controller, actuation)``, ``options = (inputs, integrator, recording)`` (unchecked)."""
+        from uvms.thrusters.actuation import actuator_kernel, n_actuator_states
+
+        checks.model(model)
+        controller, actuation = control[0], checked_control(*control)
+        inputs, integrator, recording = checked_inputs(model, options[0]), options[1], checked_recording(options[2])
+        state = State.zero(model) if initial_state is None else checks.state(model, initial_state, "initial_state")
+        n_act = n_actuator_states(actuator_kernel(actuation.thrusters))
+        if state.actuator.size != n_act:
+            state = state.replace(actuator=np.zeros(n_act))
+        if inputs.fixed_base:
+            state = state.replace(nu=np.zeros(6))
+        plant, _ = build_plant(model, thrusters=actuation.thrusters,
+                               fluid=current_table(model, inputs.current, timing), fixed_base=inputs.fixed_base,
+                               bounds=recording.bounds)
+        held = held_inputs(model.n_joints, len(actuation.thrusters))
+        held.body_wrench[:] = inputs.body_wrench
+        held.ee_wrench[:] = inputs.ee_wrench
+        every = timing.steps_of(recording.period) if recording.period is not None else \
+            max(1, int(np.ceil(timing.n_total / MAX_SAMPLES)))
+        x = pack(state).astype(float)
+        control_every = 0
+        if controller is not None:
+            control_every = timing.steps_of(getattr(controller, "period", None) or inputs.control_period or 0.01)
+        record = samples(timing.n_total // every + 2, x.size, every)
+        record.states[0] = x                     # the initial state is the first row, at t = 0
+        record.count[0] = 1
+        return cls(model=model, timing=timing, layout=StateLayout(model.n_joints, n_act), plant=plant, held=held,
+                   x=x, samples=record,
+                   arm=ArmInput(inputs.joint_torques, model.n_joints, timing, inputs.control_period),
+                   controller=controller, control_every=control_every, thrusters=actuation.thrusters,
+                   fixed_base=inputs.fixed_base,
+                   integrator=integrator, recording=recording)
+
+    def events(self):
+        """The steps at which the loop stops (:func:`events`) for this run's periods and breakpoints."""
+        return events(self.timing.n_total, (self.control_every, self.arm.every), self.arm.breakpoints)
+
+    def report_progress(self, done: int) -> None:
+        if self.recording.progress is not None:
+            self.recording.progress(done * self.timing.h, self.timing.duration)
+
+
+def events(n_total: int, periods: tuple[int, ...], breakpoints: list[int]):
+    """The steps at which a loop stops, in order: multiples of each non-zero period (in steps), the
+    breakpoints, and ``n_total``; generated one at a time (a long run holds no list of them)."""
+    upcoming = {every: every for every in periods if every}
+    pending = sorted(b for b in set(breakpoints) if 0 < b < n_total)
+    i = 0
+    event = 0
+    while event < n_total:
+        event = min(n_total, *upcoming.values(), pending[i] if i < len(pending) else n_total)
+        yield event
+        for every in upcoming:
+            if upcoming[every] <= event:
+                upcoming[every] = (event // every + 1) * every
+        while i < len(pending) and pending[i] <= event:
+            i += 1

@@ -1,0 +1,96 @@
+"""From what a loop recorded to a labelled :class:`~uvms.sim.result.Result`: the final sample, the inputs and
+signals of every row (zero-order hold of the updates), the end-effector path, metadata and joint-limit
+crossings."""
+
+from __future__ import annotations
+
+import time as _time
+
+import numpy as np
+
+from uvms.kinematics import end_effector_path
+from uvms.sim.result import Result
+
+
+def held_signals(per_update: list[dict[str, float]], which: np.ndarray) -> dict[str, np.ndarray]:
+    """One column per signal name, row ``r`` holding update ``which[r]``'s value (NaN where that update did
+    not log the name). Updates logging the same names in the same order (the usual case) fill their rows in
+    one assignment."""
+    groups: dict[tuple[str, ...], list[int]] = {}
+    for u, sg in enumerate(per_update):
+        groups.setdefault(tuple(sg), []).append(u)
+    names = sorted({k for keys in groups for k in keys})
+    column = {k: i for i, k in enumerate(names)}
+    held = np.full((len(per_update), len(names)), np.nan)
+    for keys, rows in groups.items():
+        if keys:
+            held[np.ix_(rows, [column[k] for k in keys])] = [list(per_update[u].values()) for u in rows]
+    return {k: held[which, column[k]] for k in names}
+
+
+def versions() -> dict[str, str]:
+    """Versions of uvms and the numerical libraries, for a result's metadata."""
+    import numba
+    import scipy
+
+    import uvms
+
+    return {"uvms_version": uvms.__version__, "numpy_version": np.__version__, "scipy_version": scipy.__version__,
+            "numba_version": numba.__version__}
+
+
+def divergence_message(plan, outcome) -> str:
+    """The one-line reason a run stopped early."""
+    h = plan.timing.h
+    idx = abs(outcome.code) - 1
+    what = outcome.reason or ("is not finite" if outcome.code < 0 else "left its sane range")
+    quantity = "" if outcome.reason else f"{plan.layout.quantity_name(idx)} "
+    return (f"simulation diverged at t = {outcome.done * h:.4g} s: {quantity}{what}; "
+            f"try a smaller step (now {h:g} s)")
+
+
+def result_of(plan, outcome, log, wall0: float) -> Result:
+    """The :class:`Result` of a finished loop (module docstring). The last row is the state at ``t = duration``
+    exactly for a complete run, and the state where it stopped otherwise."""
+    timing, rec, x = plan.timing, plan.samples, plan.x
+    n_out = int(rec.count[0])
+    complete = outcome.code == 0
+    if complete:                            # the final state is always a row, at exactly t = duration
+        if timing.n_total % rec.every:
+            rec.states[n_out] = x
+            n_out += 1
+        rec.times[n_out - 1] = timing.duration
+    elif n_out == 0 or rec.times[n_out - 1] < outcome.done * timing.h:
+        rec.times[n_out] = outcome.done * timing.h
+        rec.states[n_out] = x
+        n_out += 1
+    out_t, out_x = rec.times[:n_out], rec.states[:n_out]
+    n = plan.layout.n_joints
+    update_times = np.array(log.steps) * timing.h
+    which = np.clip(np.searchsorted(update_times, out_t + 0.5 * timing.h, side="right") - 1, 0, len(log.steps) - 1)
+    out_tau = np.array(log.torques, dtype=float).reshape(len(log.steps), n)[which]
+    ee = np.zeros((n_out, 3))
+    end_effector_path(plan.model.kernel, np.ascontiguousarray(out_x), ee)
+    meta = {"integrator": plan.integrator.name, "step_s": timing.h, "duration_s": timing.duration,
+            "fixed_base": plan.fixed_base,
+            "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name, **versions(),
+            **(plan.recording.metadata or {})}
+    report_joint_limits(plan.model, out_t, out_x, out_tau, meta)
+    return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
+                  signals=held_signals(log.signals, which), complete=complete,
+                  message="" if complete else divergence_message(plan, outcome), metadata=meta)
+
+
+def report_joint_limits(model, t, x, tau, meta: dict) -> None:
+    """Joint limits crossed in the run (:func:`uvms.model.limits.joint_limit_crossings`): a warning, and the
+    lines under ``metadata["joint_limit_crossings"]``."""
+    from uvms.model.limits import joint_limit_crossings
+
+    n = model.n_joints
+    lines = joint_limit_crossings(model, t, x[:, 13:13 + n], x[:, 13 + n:13 + 2 * n], tau)
+    if lines:
+        import warnings
+
+        meta["joint_limit_crossings"] = lines
+        warnings.warn(f"{model.name}: {lines[0]}" + (f" (and {len(lines) - 1} more)" if len(lines) > 1 else ""),
+                      stacklevel=4)

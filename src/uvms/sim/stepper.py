@@ -1,0 +1,122 @@
+"""The step API, for users who close their own loop (model-predictive control, learning): a
+:class:`Simulator` holds one compiled loop and advances it by ``step(duration, ...)`` calls, with the inputs
+the caller gives held in between (zero-order hold).
+
+Stepping continues the same step grid as one long run (step ``k`` starts at ``t = k h``), so stepping 10 s in
+10 ms calls gives the same arithmetic as one 10 s :func:`uvms.simulate`. A call costs one compiled call plus
+a few microseconds of Python: the whole loop is one numba structure reference
+(:class:`uvms.sim.compiled_loop.Loop`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from uvms import checks
+from uvms.sim.integrate import unpack
+from uvms.sim.options import Inputs, grouped
+from uvms.sim.plan import MAX_STEPS, RunPlan, Timing
+from uvms.state import State
+
+
+class Simulator:
+    """A plant (and optionally a bundled controller and arm input) advanced step by step.
+
+    Args:
+        model: a :class:`~uvms.model.Model`.
+        state: the initial state (default: at rest at the origin).
+        step: integration step [s].
+        controller, actuation, inputs: as :func:`uvms.simulate`'s. Without a controller the body wrench (or the
+            thruster commands) given to :meth:`step` drives the vehicle; without ``inputs.joint_torques`` the
+            joint torques given to :meth:`step` drive the arm.
+    """
+
+    def __init__(self, model, state: State | None = None, *, step: float = 1e-3, controller=None, actuation=None,
+                 inputs: Inputs | None = None) -> None:
+        from uvms.sim.compiled_loop import compilable, compiled_run
+
+        checks.model(model)
+        self.model = model
+        inputs = inputs or Inputs()
+        self._own_torques = inputs.joint_torques is None
+        if self._own_torques:
+            inputs = Inputs(**{**inputs.__dict__, "joint_torques": np.zeros(model.n_joints)})
+        timing = Timing.of(step, step)
+        self._plan = plan = RunPlan.build(model, state, timing, (controller, actuation),
+                                          grouped(inputs, "rk4", None, {"record_period": step}))
+        if not compilable(plan):
+            raise checks.fail("controller", "expected a bundled controller and arm input (compiled) for the step API")
+        self._timing = Timing(duration=MAX_STEPS * timing.h, h=timing.h, n_total=MAX_STEPS)
+        self._initial = plan.x.copy()
+        self._run = None
+        self._done = 0
+        self.reset(state)
+
+    @property
+    def time(self) -> float:
+        """The simulated time [s]."""
+        return self._done * self._timing.h
+
+    @property
+    def state(self) -> State:
+        """The current state (a copy)."""
+        return unpack(self._plan.x, self.model.n_joints)
+
+    def reset(self, state: State | None = None) -> State:
+        """Back to ``t = 0`` at ``state`` (default: the initial state) with the controller's memory cleared."""
+        from uvms.sim.compiled_loop import compiled_run
+        from uvms.sim.integrate import pack
+
+        plan = self._plan
+        if state is None:
+            plan.x[:] = self._initial
+        else:
+            x = pack(checks.state(self.model, state)).astype(float)
+            if x.size != plan.x.size:           # actuator states: the layout's, zero unless given
+                x = np.concatenate([x[:plan.layout.actuator.start], np.zeros(plan.layout.n_actuator)])
+            plan.x[:] = x
+        plan.plant  # the plant keeps no memory between calls
+        plan.held.command[:] = 0.0
+        plan.held.joint_torques[:] = 0.0
+        plan.timing = self._timing
+        run = compiled_run(plan)
+        self._run = run._replace(schedule=run.schedule._replace(n_total=MAX_STEPS))
+        from uvms.sim.compiled_loop import _new_loop
+
+        c = self._run
+        self._loop = _new_loop(plan.plant, plan.held, c.control, c.schedule, plan.samples, c.log, plan.x)
+        self._done = 0
+        return self.state
+
+    def step(self, duration: float, *, joint_torques=None, body_wrench=None, ee_wrench=None, command=None) -> State:
+        """Advance ``duration`` seconds (a whole number of steps) with the given inputs held, and return the
+        state. ``joint_torques`` (n,) [N m] (when the simulator has no arm input of its own), ``body_wrench``
+        and ``ee_wrench`` (6,), ``command``: the body wrench or thruster commands (without a controller)."""
+        from uvms.sim.compiled_loop import advance_loop
+
+        plan = self._plan
+        steps = int(round(checks.number(duration, "duration", positive=True, unit="s") / self._timing.h))
+        if steps < 1:
+            raise checks.fail("duration", f"expected at least one step of {self._timing.h:g} s, got {duration!r}")
+        if joint_torques is not None:
+            if not self._own_torques:
+                raise checks.fail("joint_torques", "the simulator has its own arm input (inputs.joint_torques)")
+            self._run.control.arm.torques[:] = checks.vector(joint_torques, self.model.n_joints, "joint_torques",
+                                                             " (one per joint)")
+        if body_wrench is not None:
+            plan.held.body_wrench[:] = checks.vector(body_wrench, 6, "body_wrench", " [moment; force]")
+        if ee_wrench is not None:
+            plan.held.ee_wrench[:] = checks.vector(ee_wrench, 6, "ee_wrench", " [moment; force]")
+        if command is not None:
+            if plan.controller is not None:
+                raise checks.fail("command", "the simulator has a controller: it sets the commands")
+            plan.held.command[:] = checks.vector(command, plan.held.command.size, "command", "")
+        done, code = advance_loop(self._loop, self._done, self._done + steps)
+        self._done = done
+        if code != 0:
+            from uvms.errors import SimulationDiverged
+
+            what = "is not finite" if code < 0 else "left its sane range"
+            raise SimulationDiverged(self.time, f"{self._plan.layout.quantity_name(abs(code) - 1)} {what}",
+                                     f"try a smaller step (now {self._timing.h:g} s)")
+        return self.state
