@@ -32,10 +32,7 @@ import numpy as np
 from numba import njit
 
 import uvms
-from uvms.dynamics.aba import aba
-from uvms.dynamics.crba import crba
-from uvms.dynamics.kernel_model import make_workspace
-from uvms.dynamics.rnea import rnea
+from uvms.dynamics.plant import forward_into, inverse_into, mass_matrix_into, model_data
 from uvms.model.model import Model
 from uvms.rotations import quaternion_from_rotation, rotation_from_euler
 from uvms.spatial import modified_dh_pose, rotz
@@ -101,10 +98,10 @@ def python_loop(fn: Callable, *args, **kwargs) -> Callable[[int], None]:
 
 
 @njit(cache=True)
-def aba_loop(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd, calls):
+def aba_loop(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd, calls):
     """``calls`` evaluations of the articulated-body algorithm (what a compiled integrator does)."""
     for _ in range(calls):
-        aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd)
+        forward_into(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd)
 
 
 @njit(cache=True)
@@ -135,12 +132,12 @@ def cholesky_solve(A, b, L, x):
 
 
 @njit(cache=True)
-def crba_solve_once(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+def crba_solve_once(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
                     h0, h_tau, use_lapack):
     """``M(q) [nu_dot; qdd] = [f_body; tau] - h`` with ``M`` from CRBA and ``h`` from RNEA at zero acceleration."""
     n = q.shape[0]
-    crba(km, ws, q, M)
-    rnea(km, ws, R0, nu, q, qd, zero6, zero_n, f_ee, v_current, a_fluid, h0, h_tau)
+    mass_matrix_into(md, q, M)
+    inverse_into(md, R0, nu, q, qd, zero6, zero_n, f_ee, v_current, a_fluid, h0, h_tau)
     for k in range(6):
         rhs[k] = f_body[k] - h0[k]
     for k in range(n):
@@ -154,10 +151,10 @@ def crba_solve_once(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid
 
 
 @njit(cache=True)
-def crba_solve_loop(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+def crba_solve_loop(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
                     h0, h_tau, use_lapack, calls):
     for _ in range(calls):
-        crba_solve_once(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+        crba_solve_once(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
                         h0, h_tau, use_lapack)
 
 
@@ -168,8 +165,7 @@ class KernelInputs:
         rng = np.random.default_rng(seed)
         n = model.n_joints
         self.model = model
-        self.km = model.kernel
-        self.ws = make_workspace(model.n_bodies)
+        self.md = model_data(model)
         self.state = uvms.State.from_euler(model, position=[1.0, -2.0, 5.0], euler=[0.2, -0.3, 1.0],
                                            nu=rng.normal(scale=0.3, size=6), q=rng.uniform(-1.5, 1.5, n),
                                            qd=rng.normal(scale=0.5, size=n))
@@ -186,7 +182,7 @@ class KernelInputs:
         self.qdd = np.zeros(n)
 
     def aba_batch(self, calls: int) -> None:
-        aba_loop(self.km, self.ws, self.R0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
+        aba_loop(self.md, self.R0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
                  self.v_current, self.a_fluid, False, self.nu_dot, self.qdd, calls)
 
     def crba_batch(self, use_lapack: bool) -> Callable[[int], None]:
@@ -196,7 +192,7 @@ class KernelInputs:
         zero6, zero_n, h0, h_tau = np.zeros(6), np.zeros(nd - 6), np.zeros(6), np.zeros(nd - 6)
 
         def batch(calls: int) -> None:
-            crba_solve_loop(self.km, self.ws, self.R0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
+            crba_solve_loop(self.md, self.R0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
                             self.v_current, self.a_fluid, M, L, self.rhs, self.x, zero6, zero_n, h0, h_tau,
                             use_lapack, calls)
         return batch
@@ -499,24 +495,23 @@ def bench_simulation(settings: Settings) -> Section:
     model on) and ``mujoco.rollout`` in the same run; the paper's case 2 (released, no control) and case 3
     (``smc-ab``, 60 % model error) over 10 s at 1 ms: wall time and real-time factor."""
     from uvms.control.registry import make_controller
-    from uvms.thrusters.actuation import actuator_kernel
+    from uvms.dynamics.plant import build_plant, fluid_table, held_inputs
     from uvms.sim.inputs import paper_torques
-    from uvms.sim.integrate import pack, rk4
+    from uvms.sim.integrate import pack, rk4, samples
     from uvms.sim.run import simulate
 
     sec = Section("simulation", "RK4 step and whole runs, paper model", ["what", "value", "unit / ratio"])
     hydro, _ = paper_models()
     inp = KernelInputs(hydro)
-    act = actuator_kernel(())
+    plant, _ = build_plant(hydro, fluid=fluid_table([0.0], [np.zeros(3)], [np.zeros(3)]))
+    held = held_inputs(hydro.n_joints, 0)
+    held.joint_torques[:] = inp.tau
     x0 = pack(inp.state)
-    bounds = np.array([1e4, 1e3, 1e3, 1e6])
-    out_t, out_x = np.zeros(1), np.zeros((1, x0.size))
-    zeros_table = (np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)))
+    record = samples(1, x0.size, 1 << 60)
 
     def rk4_batch(calls: int) -> None:
         x = x0.copy()
-        rk4(hydro.kernel, inp.ws, act, x, 0.0, 1e-3, calls, 0, 1 << 60, inp.tau, np.zeros(6), np.zeros(6),
-            np.zeros(6), *zeros_table, False, bounds, out_t, out_x, 0)
+        rk4(plant, held, x, 0.0, 1e-3, calls, 0, record)
 
     f = sec.figures
     batches: dict[str, Callable[[int], object]] = {"uvms_rk4_step_us": rk4_batch}

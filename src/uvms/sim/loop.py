@@ -56,6 +56,12 @@ class UpdateLog:
         self.torques.append(np.array(tau, dtype=float))
         self.signals.append(signals)
 
+    def held(self, which: np.ndarray) -> dict[str, np.ndarray]:
+        """Each signal's value at every recorded row (the update ``which[r]`` holding row ``r``)."""
+        from uvms.sim.record import held_signals
+
+        return held_signals(self.signals, which)
+
 
 class Rk4Segments:
     """Advances a plan's state with the compiled RK4 loop, in calls of ``chunking.first`` steps at first and

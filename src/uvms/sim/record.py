@@ -77,7 +77,7 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
             **(plan.recording.metadata or {})}
     report_joint_limits(plan.model, out_t, out_x, out_tau, meta)
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
-                  signals=held_signals(log.signals, which), complete=complete,
+                  signals=log.held(which), complete=complete,
                   message="" if complete else divergence_message(plan, outcome), metadata=meta)
 
 
