@@ -24,9 +24,13 @@ Design (at the first update, when the arm's pose and torques are known; :meth:`L
    (``nu_dot_0``: the vehicle's acceleration there without thrust: weight, buoyancy, the arm, the model's
    current; ``B_v``: the vehicle block of ``B``), on the controlled axes.
 
-Update: ``wrench[axes] = clip(u_ff - K [e; nu], +/- limit)``, the other components zero. No integral action:
-a constant disturbance the model does not know (an unknown current) leaves the steady offset
-``(I - Ad + Bd K)^-1 Bd w`` of the linear model. Logs ``e_<axis>`` and ``command_<axis>`` per controlled axis.
+Update: ``wrench[axes] = clip(u_ff - K [e; nu; z], +/- limit)``, the other components zero. Without integrators
+(``q_integral = 0``, default) a constant disturbance the model does not know (an unknown current) leaves the
+steady offset ``(I - Ad + Bd K)^-1 Bd w`` of the linear model. With ``q_integral > 0`` on an axis, that axis'
+pose error is integrated, ``z_{k+1} = z_k + T e_k`` (``T`` the period; not while that axis' command is clipped:
+anti-windup by conditional integration), and ``z`` joins the design's states (``Ad`` augmented with the same
+sum, ``A`` with ``z_dot = e``): the offset goes to zero. Logs ``e_<axis>``, ``command_<axis>`` (and
+``integral_<axis>``) per controlled axis.
 """
 
 from __future__ import annotations
@@ -36,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from uvms.control.base import ControlOutput, Measurement
-from uvms.control.registry import choice, optional, parameter, positive, register, vector
+from uvms.control.registry import choice, non_negative, optional, parameter, positive, register, vector
 from uvms.errors import UvmsInputError
 
 AXES: tuple[str, ...] = ("surge", "sway", "heave", "roll", "pitch", "yaw")
@@ -78,6 +82,9 @@ class LqrParameters:
                                               "Q weights of the velocities [s^2/m^2 x3, s^2/rad^2 x3]")
     r_wrench: tuple[float, ...] = parameter(DEFAULT_R_WRENCH, vector(6, positive, scalar=True),
                                             "R weights of the wrench [1/N^2 x3, 1/(N m)^2 x3]")
+    q_integral: tuple[float, ...] = parameter((0.0,) * 6, vector(6, non_negative, scalar=True),
+                                              "Q weights of the pose errors' time integrals (0: no integrator) "
+                                              "[1/(m^2 s^2) x3, 1/(rad^2 s^2) x3]")
     limit: tuple[float, ...] | None = parameter(None, optional(vector(6, positive, scalar=True)),
                                                 "output limits per axis [N x3, N m x3] (default: none)")
     design: str = parameter("discrete", choice("discrete", "continuous"),
@@ -101,10 +108,11 @@ class LqrDesign:
 
     Attributes:
         axes: the controlled axes.
-        state_names, input_names: names of the design's states (``e_<axis>``, ``nu_<axis>``) and inputs.
+        state_names, input_names: names of the design's states (``e_<axis>``, ``nu_<axis>``, then
+            ``integral_<axis>``) and inputs.
         A, B: continuous matrices of the design states and inputs; Ad, Bd: zero-order hold at ``period``.
         Q, R: the weights.
-        gain: ``K`` (k, 2 k).
+        gain: ``K`` (k, 2 k + k_i), ``k_i`` the number of integrators.
         feedforward: (k,) the held wrench on the controlled axes [N, N m].
         closed_loop: eigenvalues of ``A - B K`` (continuous design) or ``Ad - Bd K`` (discrete design).
         hold_state: the :class:`~uvms.state.State` designed about.
@@ -149,11 +157,14 @@ class LqrController:
         self.parameters = parameters or LqrParameters()
         self.period = float(period)
         self._axes = [AXES.index(a) for a in self.parameters.axes]
+        self._integrated = [j for j, i in enumerate(self._axes) if self.parameters.q_integral[i] > 0]
+        """Positions in ``axes`` of the axes with an integrator."""
         self.reset()
 
     def reset(self) -> None:
         """Forget the design and the captured hold pose (the next update designs again)."""
         self.current_design: LqrDesign | None = None
+        self._integral = np.zeros(len(self._integrated))
         self._position_desired: np.ndarray | None = None
         self._rotation_desired: np.ndarray | None = None
 
@@ -191,6 +202,14 @@ class LqrController:
         Q = np.diag([par.q_pose[i] for i in self._axes] + [par.q_velocity[i] for i in self._axes])
         Rw = np.diag([par.r_wrench[i] for i in self._axes])
         Ad, Bd = discretize(A, B, self.period)
+        k, ki = len(cols), len(self._integrated)
+        if ki:                                  # integrators of the pose errors: z_dot = e (z_{k+1} = z_k + T e_k)
+            C = np.zeros((ki, 2 * k))
+            C[np.arange(ki), self._integrated] = 1.0
+            A = np.block([[A, np.zeros((2 * k, ki))], [C, np.zeros((ki, ki))]])
+            Ad = np.block([[Ad, np.zeros((2 * k, ki))], [self.period * C, np.eye(ki)]])
+            B, Bd = np.vstack([B, np.zeros((ki, k))]), np.vstack([Bd, np.zeros((ki, k))])
+            Q = np.diag(np.concatenate([np.diag(Q), [par.q_integral[self._axes[j]] for j in self._integrated]]))
         try:
             if par.design == "discrete":
                 P = solve_discrete_are(Ad, Bd, Q, Rw)
@@ -214,7 +233,8 @@ class LqrController:
             feedforward = u_ff[cols]
         for a in (A, B, Ad, Bd, Q, Rw, K, feedforward, closed):
             a.setflags(write=False)
-        names = tuple(f"e_{a}" for a in par.axes) + tuple(f"nu_{a}" for a in par.axes)
+        names = (tuple(f"e_{a}" for a in par.axes) + tuple(f"nu_{a}" for a in par.axes)
+                 + tuple(f"integral_{par.axes[j]}" for j in self._integrated))
         return LqrDesign(axes=par.axes, state_names=names, input_names=tuple(lin.input_names[c] for c in cols), A=A,
                          B=B, Ad=Ad, Bd=Bd, Q=Q, R=Rw, gain=K, feedforward=feedforward, closed_loop=closed,
                          hold_state=hold)
@@ -229,16 +249,23 @@ class LqrController:
         d = self.current_design
         e = pose_error(state, self._position_desired, self._rotation_desired)
         nu = np.asarray(state.nu)
-        x = np.concatenate([e[[POSE_INDEX[i] for i in self._axes]], nu[[VELOCITY_INDEX[i] for i in self._axes]]])
-        command = d.feedforward - d.gain @ x
+        e_axes = e[[POSE_INDEX[i] for i in self._axes]]
+        x = np.concatenate([e_axes, nu[[VELOCITY_INDEX[i] for i in self._axes]], self._integral])
+        unclipped = d.feedforward - d.gain @ x
+        command = unclipped
         if self.parameters.limit is not None:
             limit = np.array([self.parameters.limit[i] for i in self._axes])
-            command = np.clip(command, -limit, limit)
+            command = np.clip(unclipped, -limit, limit)
+        for n, j in enumerate(self._integrated):
+            if command[j] == unclipped[j]:
+                self._integral[n] += self.period * e_axes[j]
         wrench = np.zeros(6)
         signals: dict[str, float] = {}
         for j, i in enumerate(self._axes):
             wrench[VELOCITY_INDEX[i]] = command[j]
             signals[f"e_{AXES[i]}"] = float(e[POSE_INDEX[i]])
             signals[f"command_{AXES[i]}"] = float(command[j])
+        for n, j in enumerate(self._integrated):
+            signals[f"integral_{AXES[self._axes[j]]}"] = float(self._integral[n])
         return ControlOutput(wrench=wrench, signals=signals)
 
