@@ -184,3 +184,42 @@ def test_small_perturbation_follows_the_linear_model(paper):
         error = np.max(np.abs(dx - predicted)) / np.max(np.abs(predicted))
         assert error < 10 * eps, (eps, error)            # measured 6.5 eps and 3.9 eps
         assert np.max(np.abs(dx - dx0)) / np.max(np.abs(predicted)) > 0.3     # while the state did move
+
+
+def test_bad_input_is_one_line_naming_the_argument(paper):
+    rest = uvms.State.zero(paper)
+    nan_state = uvms.State.trusted(np.zeros(3), np.array([1.0, 0, 0, 0]), np.array([0, 0, np.nan, 0, 0, 0]),
+                                   np.zeros(3), np.zeros(3), np.zeros(0))
+    cases = [
+        (dict(state=nan_state), "state.nu", "expected finite values, got nan at index 2"),
+        (dict(joint_torques=[1.0, 2.0]), "joint_torques", "expected 3 finite values"),
+        (dict(body_wrench=np.zeros(5)), "body_wrench", "expected 6 finite values"),
+        (dict(ee_wrench=[0, 0, 0, 0, 0, np.inf]), "ee_wrench", "expected 6 finite values"),
+        (dict(current=[0.1, 0.2]), "current", "expected 3 finite values"),
+        (dict(step=-0.01), "step", "expected a positive, finite number"),
+        (dict(state=uvms.State.zero(paper.vehicle_only())), "state", "expected a state of the model's 3 joints"),
+        (dict(model="paper"), "model", "expected a uvms Model"),
+    ]
+    for override, path, message in cases:
+        args = dict(model=paper, state=rest)
+        args.update(override)
+        model, state = args.pop("model"), args.pop("state")
+        with pytest.raises(UvmsInputError) as info:
+            uvms.linearize(model, state, **args)
+        assert info.value.path == path and message in str(info.value), (path, str(info.value))
+        assert "\n" not in str(info.value)
+    lin = uvms.linearize(paper, rest)
+    with pytest.raises(UvmsInputError, match="unknown name 'x_dot'"):
+        lin.select(["x", "x_dot"])
+    with pytest.raises(UvmsInputError, match="given twice"):
+        lin.select(inputs=["X", "X"])
+
+
+def test_select_keeps_the_named_rows_and_columns(paper):
+    lin = uvms.linearize(paper, uvms.State.zero(paper), step=0.02)
+    sub = lin.select(["u", "x", "rz"], ["N", "X"])
+    rows, cols = [9, 0, 5], [2, 3]
+    np.testing.assert_array_equal(sub.A, lin.A[np.ix_(rows, rows)])
+    np.testing.assert_array_equal(sub.B, lin.B[np.ix_(rows, cols)])
+    assert sub.state_names == ("u", "x", "rz") and sub.input_names == ("N", "X")
+    np.testing.assert_allclose(sub.Ad, expm(sub.A * 0.02), rtol=1e-12, atol=1e-15)

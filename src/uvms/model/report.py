@@ -1,5 +1,8 @@
 """What a modeller needs to know next about a model at rest: mass and buoyancy, trim, thrust, controller fit.
 
+The statics, the rest attitude and the controller-fit check are :mod:`uvms.model.trim`'s (shared with
+``uvms trim``); this module adds the static moment, the thrust available per axis and the layout rank.
+
 :func:`model_report` computes every number of ``uvms validate`` (the command only prints
 :meth:`ModelReport.table` or :meth:`ModelReport.to_dict`). All quantities are for the system at rest, the arm
 at the joint values ``q``, vectors in the vehicle frame (x forward, y starboard, z down; ``docs/conventions.md``)
