@@ -5,7 +5,7 @@ Public API (stable names)::
     load_model(name_or_path) -> Model          State.from_euler(model, position=, euler=, nu=, q=, qd=)
     forward_dynamics(model, state, ...)        inverse_dynamics(model, state, nu_dot=, qdd=)
     mass_matrix(model, state)                  end_effector_position(model, state)
-    linearize(model, state, ...)               trim(model, q=...)
+    linearize(model, state, ...)               trim(model, q=...)       trimmed_state(model, q=...)
     frame_pose(model, state, name)             frame_poses(model, state)
     simulate(model, initial_state, ...)        hydrodynamic_wrenches(model, state, ...)
 
@@ -44,6 +44,7 @@ _EXPORTS = {
     "hydrodynamic_wrenches": "uvms.hydro.inspect",
     "show": "uvms.view",
     "trim": "uvms.model.trim",
+    "trimmed_state": "uvms.model.trim",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]
