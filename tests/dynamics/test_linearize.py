@@ -148,6 +148,23 @@ def test_vehicle_at_rest_is_fossens_linear_form(paper):
     np.testing.assert_allclose(lin.Bd, integral @ lin.B, rtol=1e-9, atol=1e-12)
 
 
+def test_bundled_vehicle_at_rest_is_fossens_linear_form():
+    """The BlueROV2 Heavy alone, its own numbers: Fossen's linear damping ``D_l`` (diagonal, about the origin),
+    quadratic damping and shape drag (no first-order term at rest), CoM offset ``c`` from the origin, full
+    added-mass matrix. At rest the velocity block is ``-M^-1 D_l`` with Featherstone's rigid-body inertia about the
+    origin ``[[I_c + m [c x][c x]^T, m [c x]], [m [c x]^T, m 1]]`` plus the added mass; it rises (not neutral),
+    which does not change that block."""
+    vehicle = uvms.load_model("bluerov2_heavy_alpha5").vehicle_only().replace(thrusters=())
+    m, c, Ic = float(vehicle.mass[0]), vehicle.com[0], vehicle.inertia_com[0]
+    assert np.linalg.norm(c) > 1e-3 and np.all(vehicle.damping_point[0] == 0.0)
+    S = skew(c)
+    M = np.block([[Ic + m * S @ S.T, m * S], [m * S.T, m * np.eye(3)]]) + vehicle.added_mass[0]
+    lin = uvms.linearize(vehicle, uvms.State.zero(vehicle))
+    expected = -np.linalg.solve(M, vehicle.damping_linear[0])
+    np.testing.assert_allclose(lin.A[6:12, 6:12], expected, rtol=0, atol=1e-8 * np.abs(expected).max())
+    assert lin.drift[11] < 0                     # positively buoyant: accelerates up (world z down)
+
+
 def test_kinematic_rows_of_a_moving_tilted_vehicle(paper):
     """``p_dot = R v`` and ``dtheta_dot = J_r^-1 omega`` differentiated by hand: ``-R0 [v0 x]``, ``R0``,
     ``-1/2 [omega0 x]``, ``I``."""
