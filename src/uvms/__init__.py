@@ -5,6 +5,7 @@ Public API (stable names)::
     load_model(name_or_path) -> Model          State.from_euler(model, position=, euler=, nu=, q=, qd=)
     forward_dynamics(model, state, ...)        inverse_dynamics(model, state, nu_dot=, qdd=)
     mass_matrix(model, state)                  end_effector_position(model, state)
+    linearize(model, state, ...)               trim(model, q=...)       trimmed_state(model, q=...)
     frame_pose(model, state, name)             frame_poses(model, state)
     simulate(model, initial_state, ...)        hydrodynamic_wrenches(model, state, ...)
 
@@ -25,6 +26,8 @@ _EXPORTS = {
     "forward_dynamics": "uvms.dynamics.api",
     "inverse_dynamics": "uvms.dynamics.api",
     "mass_matrix": "uvms.dynamics.api",
+    "linearize": "uvms.dynamics.linearize",
+    "Linearization": "uvms.dynamics.linearize",
     "bias_forces": "uvms.dynamics.api",
     "end_effector_position": "uvms.kinematics",
     "forward_kinematics": "uvms.kinematics",
@@ -40,6 +43,8 @@ _EXPORTS = {
     "TorqueSchedule": "uvms.sim.inputs",
     "hydrodynamic_wrenches": "uvms.hydro.inspect",
     "show": "uvms.view",
+    "trim": "uvms.model.trim",
+    "trimmed_state": "uvms.model.trim",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]

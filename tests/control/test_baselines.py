@@ -211,7 +211,7 @@ def test_registry_rejects_bad_parameters_in_one_line(model, name, parameters, pa
 
 def test_registry_rejects_unknown_names_and_bad_periods(model):
     with pytest.raises(UvmsInputError) as info:
-        make_controller("lqr", model)
+        make_controller("mpc", model)
     assert info.value.path == "controller.name" and "smc-ab" in str(info.value) and "\n" not in str(info.value)
     with pytest.raises(UvmsInputError, match="controller.period"):
         make_controller("pid", model, period=0.0)

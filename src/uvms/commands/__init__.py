@@ -7,6 +7,7 @@ Add a subcommand by adding its module name to :data:`COMMANDS`.
 
 COMMANDS: tuple[str, ...] = (
     "validate",
+    "trim",
     "thruster_curve",
     "reproduce",
     "run", "plot",

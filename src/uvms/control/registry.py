@@ -7,7 +7,7 @@ a scenario file or the command line) against that dataclass: an unknown key or a
 one-line :class:`~uvms.errors.UvmsInputError` naming ``controller.parameters.<key>``.
 
 Bundled controllers (:data:`BUILTIN_MODULES`): ``smc-ab`` (the paper), ``smc-ne`` (Dunnigan and Russell),
-``smc-vehicle`` and ``pid``.
+``smc-vehicle``, ``pid`` and ``lqr`` (designed from :func:`uvms.linearize`).
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from uvms.errors import UvmsInputError
 
 BUILTIN_MODULES: tuple[str, ...] = (
     "uvms.control.smc_ab", "uvms.control.smc_ne", "uvms.control.smc_vehicle", "uvms.control.pid",
+    "uvms.control.lqr",
 )
 """Modules whose import registers the bundled controllers (imported on first use of the registry)."""
 

@@ -1,5 +1,8 @@
 """What a modeller needs to know next about a model at rest: mass and buoyancy, trim, thrust, controller fit.
 
+The statics, the rest attitude and the controller-fit check are :mod:`uvms.model.trim`'s (shared with
+``uvms trim``); this module adds the static moment, the thrust available per axis and the layout rank.
+
 :func:`model_report` computes every number of ``uvms validate`` (the command only prints
 :meth:`ModelReport.table` or :meth:`ModelReport.to_dict`). All quantities are for the system at rest, the arm
 at the joint values ``q``, vectors in the vehicle frame (x forward, y starboard, z down; ``docs/conventions.md``)
@@ -64,21 +67,13 @@ from typing import Any
 
 import numpy as np
 
-from uvms.errors import UvmsInputError, show
+from uvms.model.trim import (AXES, CONTROLLED_AXES, INERTIA_UNITS, WRENCH_ROW, b_bounds_check, centres,  # noqa: F401
+                             effective_inertia, joint_values, rest_attitude, statics, trim_attitude)
 
-AXES: tuple[str, ...] = ("surge", "sway", "heave", "roll", "pitch", "yaw")
-"""Body axes of the report, in this order everywhere: forces X, Y, Z [N], then moments K, M, N [N m]."""
-WRENCH_ROW: tuple[int, ...] = (3, 4, 5, 0, 1, 2)
-"""Row of each axis of :data:`AXES` in a ``[K, M, N, X, Y, Z]`` wrench (and in ``nu``)."""
 AXIS_UNITS: tuple[str, ...] = ("N", "N", "N", "N m", "N m", "N m")
 """Units of the thrust available along or about each axis of :data:`AXES`."""
-INERTIA_UNITS: tuple[str, ...] = ("kg", "kg", "kg", "kg m^2", "kg m^2", "kg m^2")
-"""Units of the effective mass or inertia of each axis of :data:`AXES`."""
 THRUST_METHOD = "linear programming over thrusts within their limits, the other five axes held at zero"
 """How :attr:`ModelReport.thrust_forward_N` and :attr:`ModelReport.thrust_reverse_N` are computed."""
-CONTROLLED_AXES: tuple[str, ...] = ("surge", "sway", "yaw")
-"""Axes of the sliding-mode controller (``uvms.control.smc.AXES``), in the order of its ``b_limits()``."""
-
 _TOL = 1e-9
 
 
@@ -215,51 +210,6 @@ class ModelReport:
         }
 
 
-def joint_values(model, q) -> np.ndarray:
-    """``q`` as (n,) finite floats in the model's joint order (zeros when ``None``); ``UvmsInputError`` else."""
-    n = model.n_joints
-    if q is None:
-        return np.zeros(n)
-    try:
-        values = np.array(q, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise UvmsInputError(f"expected {n} numbers, found {show(q)}", path="q") from None
-    if values.size != n:
-        order = ", ".join(model.joint_names) or "none"
-        raise UvmsInputError(f"expected {n} joint values (joints: {order}), found {values.size}", path="q")
-    if not np.all(np.isfinite(values)):
-        raise UvmsInputError(f"expected finite joint values, found {show(values.tolist())}", path="q")
-    return values
-
-
-def centres(model, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """World points (vehicle level at the origin) of every body's centre of mass and of buoyancy, (nb, 3) each."""
-    from uvms.kinematics import forward_kinematics
-    from uvms.state import State
-
-    poses = forward_kinematics(model, State.from_euler(model, q=q))
-    R, p = poses.rotation[:model.n_bodies], poses.position[:model.n_bodies]
-    return (p + np.einsum("bij,bj->bi", R, model.com), p + np.einsum("bij,bj->bi", R, model.cob))
-
-
-def trim_attitude(d: np.ndarray, gravity: np.ndarray) -> tuple[float | None, float | None, str]:
-    """ZYX ``(roll, pitch)`` with yaw 0 at which ``R^T a_g`` is along ``d = r_G - r_B`` (module docstring), or
-    ``(None, None, why)``."""
-    g = float(np.linalg.norm(gravity))
-    if g == 0.0:
-        return None, None, "no gravity"
-    scale = max(1.0, float(np.max(np.abs(d))))
-    if float(np.linalg.norm(d)) <= 1e-12 * scale:
-        return None, None, "centre of mass and centre of buoyancy coincide"
-    ghat = gravity / g
-    if abs(abs(ghat[2]) - 1.0) > 1e-12:
-        return None, None, "gravity is not along the world z axis"
-    d = d * np.sign(ghat[2])       # R^T (-e_z) = d/|d|  <=>  R^T e_z = -d/|d|
-    roll = math.atan2(d[1], d[2])
-    pitch = math.atan2(-d[0], math.hypot(d[1], d[2]))
-    return roll, pitch, ""
-
-
 def thruster_limits(thruster) -> tuple[float, float]:
     """``(lower, upper)`` steady thrust [N] of one thruster: ``min_thrust`` if its model has one, else
     ``-max_thrust`` (odd models)."""
@@ -305,19 +255,6 @@ def missing_axes(Lambda: np.ndarray) -> tuple[int, tuple[str, ...]]:
     return rank, tuple(a for a, row in zip(AXES, WRENCH_ROW) if float(np.linalg.norm(N[row])) > 1e-8)
 
 
-def effective_inertia(model, q: np.ndarray) -> np.ndarray:
-    """(6,) ``1 / (M^-1)_jj`` of the joint-space mass matrix at ``q`` per axis of :data:`AXES`."""
-    from uvms.dynamics.api import mass_matrix
-    from uvms.state import State
-
-    M = mass_matrix(model, State.from_euler(model, q=q))
-    try:
-        inverse = np.linalg.inv(M)
-    except np.linalg.LinAlgError:
-        raise UvmsInputError("the mass matrix is singular at this pose") from None
-    return np.array([1.0 / inverse[row, row] for row in WRENCH_ROW])
-
-
 def model_report(model, q=None, *, controller=None) -> ModelReport:
     """The statics, actuation and controller-fit report of ``model`` at rest, arm at ``q`` (module docstring).
 
@@ -330,27 +267,14 @@ def model_report(model, q=None, *, controller=None) -> ModelReport:
     Raises:
         UvmsInputError: ``q`` of the wrong length or not finite.
     """
-    from uvms.control.smc import SlidingModeParameters
     from uvms.thrusters.layouts import layout_matrix
 
     q = joint_values(model, q)
-    gravity = np.asarray(model.gravity, dtype=float)
-    g = float(np.linalg.norm(gravity))
-    mass, fluid = np.asarray(model.mass, dtype=float), np.asarray(model.buoyancy_mass, dtype=float)
-    m, mf = float(mass.sum()), float(fluid.sum())
-    p_com, p_cob = centres(model, q)
-    first_moment_mass, first_moment_fluid = mass @ p_com, fluid @ p_cob
-    r_G = first_moment_mass / m
-    r_B = first_moment_fluid / mf if mf > 0 else np.full(3, np.nan)
-    static = np.cross(first_moment_mass - first_moment_fluid, gravity)
-    if mf > 0:
-        d = r_G - r_B
-        righting = mf * g * float(np.linalg.norm(d))
-        roll, pitch, note = trim_attitude(d, gravity)
-    else:
-        righting, roll, pitch, note = 0.0, None, None, "no displaced fluid (no buoyancy)"
-    if roll is None:
-        righting = 0.0
+    s = statics(model, q)
+    g, m, mf, r_G, r_B = s.gravity, s.mass, s.fluid_mass, s.center_of_mass, s.center_of_buoyancy
+    static = np.cross(s.first_moment_mass - s.first_moment_fluid, np.asarray(model.gravity, dtype=float))
+    roll, pitch, note = rest_attitude(model, s)
+    righting = 0.0 if roll is None else mf * g * float(np.linalg.norm(r_G - r_B))
 
     thrusters = tuple(model.thrusters)
     Lambda = layout_matrix(thrusters)
@@ -359,16 +283,7 @@ def model_report(model, q=None, *, controller=None) -> ModelReport:
     rank, missing = missing_axes(Lambda)
 
     inertia = effective_inertia(model, q)
-    params = controller if controller is not None else SlidingModeParameters()
-    bounds = {axis: (float(lo), float(hi)) for axis, (lo, hi) in zip(CONTROLLED_AXES, params.b_limits())}
-    warnings = []
-    for axis, (lo, hi) in bounds.items():
-        j = AXES.index(axis)
-        value, unit = float(inertia[j]), INERTIA_UNITS[j]
-        if not lo <= value <= hi:
-            warnings.append(f"sliding-mode controller: {axis} effective {'mass' if unit == 'kg' else 'inertia'} "
-                            f"{value:.4g} {unit} is outside its b bounds [{lo:.6g}, {hi:.6g}] {unit} "
-                            f"(paper Eqs. 27-29 assume it inside)")
+    bounds, warnings = b_bounds_check(inertia, controller)
     for arr in (q, r_G, r_B, static, forward, reverse, inertia):
         arr.setflags(write=False)
     return ModelReport(
@@ -377,4 +292,4 @@ def model_report(model, q=None, *, controller=None) -> ModelReport:
         static_moment_Nm=static, righting_moment_Nm=righting, trim_roll_rad=roll, trim_pitch_rad=pitch,
         trim_note=note, thrust_forward_N=forward, thrust_reverse_N=reverse, thrust_method=THRUST_METHOD,
         n_thrusters=len(thrusters), allocation_rank=rank, missing_axes=missing, effective_inertia=inertia,
-        b_bounds=bounds, warnings=tuple(warnings))
+        b_bounds=bounds, warnings=warnings)
