@@ -1,6 +1,6 @@
 """``pid``: a PID baseline on the same surge, sway and yaw errors as the sliding-mode controllers.
 
-Per axis, with ``e`` and ``e_dot`` from :func:`uvms.control.smc.axis_kinematics` (body-frame position error
+Per axis, with ``e`` and ``e_dot`` from :func:`uvms.control.sliding_kernels.pose_kinematics_into` (body-frame position error
 and its exact rate, yaw error and Euler yaw rate)::
 
     f = -(kp e + ki z + kd e_dot)    clipped to +/- limit         z = integral of e
@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uvms.control.base import ControlOutput, Measurement
 from uvms.control.registry import non_negative, number, optional, parameter, positive, register, vector
-from uvms.control.smc import AXES, PAPER_B_TRANSLATION, PAPER_B_YAW, WRENCH_INDEX, axis_kinematics
+from uvms.control.sliding_kernels import AXIS_NAMES
+from uvms.control.smc import AXES, PAPER_B_TRANSLATION, PAPER_B_YAW, CompiledController
 from uvms.errors import UvmsInputError
 
 _OMEGA = math.pi
@@ -62,10 +62,11 @@ class PidParameters:
 
 
 @register("pid")
-class PidController:
+class PidController(CompiledController):
     """PID station keeping on the body-frame surge and sway errors and the yaw error, with clamping anti-windup.
 
-    Logs per axis ``e_<axis>``, ``integral_<axis>``, ``command_<axis>``.
+    Logs per axis ``e_<axis>``, ``integral_<axis>``, ``command_<axis>``. The update is
+    :func:`uvms.control.kernels.controller_update` (kind ``PID``).
     """
 
     Parameters = PidParameters
@@ -75,38 +76,31 @@ class PidController:
             raise UvmsInputError(f"expected a period > 0 [s], found {period!r}", path="controller.period")
         self.parameters = parameters or PidParameters()
         self.period = float(period)
+        self.plant = model
+        self.axes = AXES
         self.reset()
 
-    def reset(self) -> None:
-        """Zero the integrators and forget the captured desired pose."""
-        self._integral = np.zeros(3)
-        self._position_desired: np.ndarray | None = None
-        self._yaw_desired = 0.0
+    @property
+    def signal_names(self) -> tuple[str, ...]:
+        return tuple(f"{c}_{a}" for a in self.axes for c in ("e", "integral", "command"))
 
-    def update(self, measurement: Measurement) -> ControlOutput:
+    def gain_table(self) -> np.ndarray:
+        """(6, N_GAINS) with kp, ki, kd and the output limit per axis slot."""
+        from uvms.control import kernels as ck
+
         par = self.parameters
-        state = measurement.state
-        if self._position_desired is None:
-            self._position_desired = (np.array(par.desired_position, dtype=float) if par.desired_position is not None
-                                      else np.array(state.position, dtype=float))
-            self._yaw_desired = par.desired_yaw if par.desired_yaw is not None else float(state.euler[2])
-        kin = axis_kinematics(state, self._position_desired, self._yaw_desired)
-        kp, ki, kd, limit = (np.array(x) for x in (par.kp, par.ki, par.kd, par.limit))
-        e, e_dot = kin.error, kin.error_rate
-        unclamped = -(kp * e + ki * self._integral + kd * e_dot)
-        saturated = np.abs(unclamped) >= limit
-        pushing = np.sign(unclamped) == -np.sign(e)          # integrating e moves the output that way
-        advance = ~(saturated & pushing)
-        self._integral = np.where(advance, self._integral + e * self.period, self._integral)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cap = np.where(ki > 0, limit / ki, np.inf)
-        self._integral = np.clip(self._integral, -cap, cap)
-        force = np.clip(-(kp * e + ki * self._integral + kd * e_dot), -limit, limit)
-        wrench = np.zeros(6)
-        signals: dict[str, float] = {}
-        for j, axis in enumerate(AXES):
-            wrench[WRENCH_INDEX[j]] = force[j]
-            signals[f"e_{axis}"] = float(e[j])
-            signals[f"integral_{axis}"] = float(self._integral[j])
-            signals[f"command_{axis}"] = float(force[j])
-        return ControlOutput(wrench=wrench, signals=signals)
+        gains = np.zeros((6, ck.N_GAINS))
+        for j, a in enumerate(AXES):
+            slot = AXIS_NAMES.index(a)
+            gains[slot, [ck.KP, ck.KI, ck.KD, ck.LIMIT]] = par.kp[j], par.ki[j], par.kd[j], par.limit[j]
+        return gains
+
+    def compiled(self, n_updates: int):
+        from uvms.control import kernels as ck
+
+        par = self.parameters
+        n = 0 if self.plant is None else self.plant.n_joints
+        return ck.controller_data(kind=ck.PID, n_joints=n, period=self.period,
+                                  axes=[AXIS_NAMES.index(a) for a in self.axes], gains=self.gain_table(),
+                                  targets=ck.targets_table(par.desired_position, (None, None, par.desired_yaw)),
+                                  n_signals=len(self.signal_names))

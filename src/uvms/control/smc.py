@@ -217,8 +217,53 @@ def effective_inertia(inertia: np.ndarray) -> np.ndarray:
 # ------------------------------------------------------------------------------------------ the controller
 
 
-class SlidingModeController:
-    """Surge, sway and yaw sliding-mode station keeping; subclasses implement :meth:`predict`.
+def state_vector(state) -> np.ndarray:
+    """``[p | quat | nu | q | qd]`` of a :class:`~uvms.state.State` (the layout of :mod:`uvms.sim.integrate`)."""
+    return np.concatenate([state.position, state.quaternion, state.nu, state.q, state.qd]).astype(float)
+
+
+class CompiledController:
+    """The Python face of a compiled controller: ``update(measurement)`` runs :func:`uvms.control.kernels.controller_update`
+    on the controller's own :class:`~uvms.control.kernels.ControllerData` (built by :meth:`compiled`)."""
+
+    PYTHON_UPDATES = 256
+    """``n_updates`` of the data used by the Python :meth:`update` (tables grow as needed)."""
+
+    _data = None
+
+    def compiled(self, n_updates: int):
+        """A fresh :class:`~uvms.control.kernels.ControllerData` (memory reset) for ``n_updates`` updates."""
+        raise NotImplementedError
+
+    @property
+    def signal_names(self) -> tuple[str, ...]:
+        """Names of :attr:`ControllerData.signals`, the logged values of an update."""
+        raise NotImplementedError
+
+    def reset(self) -> None:
+        """Forget the memory (captured set point, integrators, IMU): the next update starts afresh."""
+        self._data = None
+
+    def _before_update(self, data):
+        return data
+
+    def update(self, measurement: Measurement) -> ControlOutput:
+        from uvms.control.kernels import controller_update
+
+        if self._data is None:
+            self._data = self.compiled(self.PYTHON_UPDATES)
+            self._names = self.signal_names
+            self._wrench = np.zeros(6)
+        data = self._data = self._before_update(self._data)
+        nu_dot = (np.asarray(measurement.nu_dot, dtype=float) if data.needs_acceleration else data.zero6)
+        controller_update(data, float(measurement.time), state_vector(measurement.state),
+                          np.asarray(measurement.joint_torques, dtype=float), nu_dot, self._wrench)
+        return ControlOutput(wrench=self._wrench.copy(), signals=dict(zip(self._names, data.signals.tolist())))
+
+
+class SlidingModeController(CompiledController):
+    """Surge, sway and yaw sliding-mode station keeping; subclasses choose the model that predicts ``f_hat``
+    (:meth:`model_options`).
 
     Logged signals per axis ``a`` in (surge, sway, yaw): ``s_a``, ``k_a``, ``f_hat_a``, ``command_a``, ``e_a``
     (and ``b_hat_a`` with ``b_source = "model"``), plus ``Phi``.
@@ -233,22 +278,7 @@ class SlidingModeController:
         self._parameters = parameters or self.Parameters()
         self.period = float(period)
         self.plant = model
-        self._position_desired: np.ndarray | None = None
-        self._yaw_desired = 0.0
-        par = self.parameters
-        # per-update buffers of the compiled law (sliding_kernels), allocated once
-        self._R, self._kin = kernels.kinematics_buffers()
-        self._f_hat = np.zeros(3)
-        self._wrench = np.zeros(6)
-        self._signals = np.zeros((3, kernels.N_SIGNAL_COLUMNS))
-        self._uncertainty = np.array(par.uncertainty, dtype=float)
-        limits = np.array(par.b_limits())
-        self._b_fixed = np.sqrt(limits[:, 0] * limits[:, 1])         # b_hat = sqrt(b_min b_max), Eq. 28
-        self._beta_fixed = np.sqrt(limits[:, 1] / limits[:, 0])      # beta = sqrt(b_max / b_min), Eq. 29
-        self._beta_model = np.full(3, par.b_margin)
-        columns = kernels.N_SIGNAL_COLUMNS if par.b_source == "model" else kernels.B_HAT
-        self._signal_columns = columns
-        self._signal_names = [name for names in SIGNAL_NAMES for name in names[:columns]]
+        self.axes = AXES
 
     @property
     def parameters(self) -> SlidingModeParameters:
@@ -256,37 +286,40 @@ class SlidingModeController:
         build a new controller to change them)."""
         return self._parameters
 
-    def reset(self) -> None:
-        """Forget the captured desired pose (taken again at the next update unless given)."""
-        self._position_desired = None
+    @property
+    def signal_names(self) -> tuple[str, ...]:
+        columns = ("s", "k", "f_hat", "command", "e") + (("b_hat",) if self.parameters.b_source == "model" else ())
+        return tuple(f"{c}_{a}" for a in self.axes for c in columns) + ("Phi",)
 
-    def predict(self, measurement: Measurement, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The controller model's ``nu_dot`` (6,) at ``f_0 = 0`` and the 6x6 inertia that maps a body
-        wrench to ``nu_dot`` in that model (for ``b_source = "model"``); ``rotation`` is the measured
-        body-to-world ``R``."""
+    def model_options(self, n_updates: int) -> dict:
+        """The :class:`~uvms.control.kernels.ControllerData` fields of the controller's model (``predictor``,
+        ``system``, ``vehicle``, ``current``, ``fluid_acceleration``, ...)."""
         raise NotImplementedError
 
-    def _desired(self, state) -> tuple[np.ndarray, float]:
-        if self._position_desired is None:
-            par = self.parameters
-            self._position_desired = (np.array(par.desired_position, dtype=float) if par.desired_position is not None
-                                      else np.array(state.position, dtype=float))
-            self._yaw_desired = par.desired_yaw if par.desired_yaw is not None else float(state.euler[2])
-        return self._position_desired, self._yaw_desired
+    def gain_table(self) -> np.ndarray:
+        """(6, N_GAINS) per axis slot: lambda, eta, Phi, F, b_hat = sqrt(b_min b_max) (Eq. 28),
+        beta = sqrt(b_max / b_min) (Eq. 29)."""
+        from uvms.control import kernels as ck
 
-    def update(self, measurement: Measurement) -> ControlOutput:
         par = self.parameters
-        st = measurement.state
-        position_d, yaw_d = self._desired(st)
-        kernels.axis_kinematics_into(st.quaternion, st.position, st.nu, position_d, yaw_d, self._R, self._kin)
-        nu_dot_hat, inertia = self.predict(measurement, self._R)
-        if par.b_source == "model":
-            b_hat, beta = effective_inertia(inertia), self._beta_model
-        else:
-            b_hat, beta = self._b_fixed, self._beta_fixed
-        kernels.sliding_mode_wrench(self._kin, nu_dot_hat, par.surface == "body_velocity", par.bandwidth, par.eta,
-                                    par.boundary_layer, self._uncertainty, b_hat, beta, self._f_hat, self._wrench,
-                                    self._signals)
-        signals = dict(zip(self._signal_names, self._signals[:, :self._signal_columns].ravel().tolist()))
-        signals["Phi"] = par.boundary_layer
-        return ControlOutput(wrench=self._wrench.copy(), signals=signals)
+        gains = np.zeros((6, ck.N_GAINS))
+        for j, (slot, (b_min, b_max)) in enumerate(zip((kernels.SURGE, kernels.SWAY, kernels.YAW), par.b_limits())):
+            gains[slot, ck.BANDWIDTH] = par.bandwidth
+            gains[slot, ck.ETA] = par.eta
+            gains[slot, ck.PHI] = par.boundary_layer
+            gains[slot, ck.UNCERTAINTY] = par.uncertainty[j]
+            gains[slot, ck.B_HAT] = math.sqrt(b_min * b_max)
+            gains[slot, ck.BETA] = math.sqrt(b_max / b_min)
+        return gains
+
+    def compiled(self, n_updates: int):
+        from uvms.control import kernels as ck
+
+        par = self.parameters
+        slots = [kernels.AXIS_NAMES.index(a) for a in self.axes]
+        targets = ck.targets_table(par.desired_position, (None, None, par.desired_yaw))
+        return ck.controller_data(kind=ck.SLIDING, n_joints=self.plant.n_joints, period=self.period, axes=slots,
+                                  gains=self.gain_table(), targets=targets, n_signals=len(self.signal_names),
+                                  body_velocity=par.surface == "body_velocity", b_from_model=par.b_source == "model",
+                                  beta_model=float(par.b_margin), log_b_hat=par.b_source == "model",
+                                  **self.model_options(n_updates))
