@@ -108,6 +108,22 @@ class ReferenceImu:
         return out
 
 
+def set_point(controller, t, state) -> np.ndarray:
+    """The first update captures the pose (position and yaw unless given; roll and pitch default level); from
+    each waypoint's time on its pose is held."""
+    par = controller.par
+    if controller.desired is None:
+        pos = (np.array(par.desired_position, dtype=float) if par.desired_position is not None
+               else np.array(state.position, dtype=float))
+        yaw = par.desired_yaw if par.desired_yaw is not None else float(state.euler[2])
+        controller.desired = np.array([*pos, par.desired_roll, par.desired_pitch, yaw])
+    current = controller.desired
+    for row in par.waypoints:
+        if row[0] <= t:
+            current = np.array(row[1:])
+    return current
+
+
 def _vehicle_state(state: State) -> State:
     return State(position=np.array(state.position), quaternion=np.array(state.quaternion), nu=np.array(state.nu),
                  q=np.zeros(0), qd=np.zeros(0))
@@ -117,17 +133,17 @@ class ReferenceSlidingMode:
     """``smc-ab`` (``predictor="ab"``), ``smc-vehicle`` (``"vehicle"``) or ``smc-ne`` (``"ne"``) with a parameter
     object of the controller class (:class:`uvms.control.smc.SlidingModeParameters` or its IMU extension)."""
 
-    def __init__(self, predictor: str, model, par, period=0.01, axes=("surge", "sway", "yaw"), gains=None):
-        self.predictor, self.par, self.period, self.axes = predictor, par, period, tuple(axes)
+    def __init__(self, predictor: str, model, par, period=0.01):
+        self.predictor, self.par, self.period, self.axes = predictor, par, period, tuple(par.axes)
         scale = par.hydro_scale
         self.system = model.with_hydrodynamics_scaled(added_mass=scale, drag=scale)
         self.vehicle = self.system.vehicle_only()
-        limits = dict(surge=par.b_surge, sway=par.b_sway, yaw=par.b_yaw)
-        limits.update((gains or {}).get("b", {}))
-        self.b = {a: math.sqrt(limits[a][0] * limits[a][1]) for a in self.axes}
-        self.beta = {a: math.sqrt(limits[a][1] / limits[a][0]) for a in self.axes}
-        unc = (gains or {}).get("uncertainty", dict(zip(("surge", "sway", "yaw"), par.uncertainty)))
-        self.uncertainty = unc
+        limits = {a: getattr(par, f"b_{a}") for a in self.axes}      # None: b_hat from the model
+        self.from_model = {a: par.b_source == "model" or limits[a] is None for a in self.axes}
+        self.b = {a: None if limits[a] is None else math.sqrt(limits[a][0] * limits[a][1]) for a in self.axes}
+        self.beta = {a: None if limits[a] is None else math.sqrt(limits[a][1] / limits[a][0]) for a in self.axes}
+        self.gains = {a: dict(bandwidth=par.bandwidth[j], eta=par.eta[j], phi=par.boundary_layer[j],
+                              uncertainty=par.uncertainty[j]) for j, a in enumerate(self.axes)}
         if predictor == "ne":
             self.imu = ReferenceImu(par.imu_noise, par.imu_bias, par.imu_delay, par.imu_seed, par.imu_mode, period)
         self.reset()
@@ -172,32 +188,28 @@ class ReferenceSlidingMode:
 
     def update(self, t, state: State, tau, nu_dot_true=None):
         par = self.par
-        if self.desired is None:
-            pos = (np.array(par.desired_position, dtype=float) if par.desired_position is not None
-                   else np.array(state.position, dtype=float))
-            yaw = par.desired_yaw if par.desired_yaw is not None else float(state.euler[2])
-            self.desired = np.array([*pos, 0.0, 0.0, yaw])
-        kin = kinematics(state, self.desired)
+        kin = kinematics(state, set_point(self, t, state))
         nu_dot_hat, inverse_diagonal = self.predict(state, np.asarray(tau, dtype=float), nu_dot_true)
         body = par.surface == "body_velocity"
         acc = ({a: nu_dot_hat[INDEX[a]] for a in AXES} if body else surface_accelerations(kin, nu_dot_hat))
         wrench = np.zeros(6)
         signals = {}
         for a in self.axes:
-            if par.b_source == "model":
+            if self.from_model[a]:
                 b_hat, beta = 1.0 / inverse_diagonal[a], par.b_margin
             else:
                 b_hat, beta = self.b[a], self.beta[a]
             rate = kin["velocity"][a] if body else kin["rate"][a]
-            s, k, command = slotine(kin["error"][a], rate, acc[a], par.bandwidth, par.eta, par.boundary_layer,
-                                    self.uncertainty[a], b_hat, beta, kin["rate"][a])
+            g = self.gains[a]
+            s, k, command = slotine(kin["error"][a], rate, acc[a], g["bandwidth"], g["eta"], g["phi"],
+                                    g["uncertainty"], b_hat, beta, kin["rate"][a])
             force = command / input_gain(kin, a, par.surface)
             wrench[INDEX[a]] = force
             signals.update({f"s_{a}": s, f"k_{a}": k, f"f_hat_{a}": acc[a], f"command_{a}": force,
                             f"e_{a}": kin["error"][a]})
             if par.b_source == "model":
                 signals[f"b_hat_{a}"] = b_hat
-        signals["Phi"] = par.boundary_layer
+        signals["Phi"] = par.boundary_layer[0]
         if self.predictor == "ne":
             for a in self.axes:
                 signals[f"imu_{a}"] = float(self.last_acceleration[INDEX[a]])
@@ -207,8 +219,8 @@ class ReferenceSlidingMode:
 class ReferencePid:
     """The PID baseline with clamping anti-windup, as written before compilation (numpy, per axis)."""
 
-    def __init__(self, par, period=0.01, axes=("surge", "sway", "yaw")):
-        self.par, self.period, self.axes = par, period, tuple(axes)
+    def __init__(self, par, period=0.01):
+        self.par, self.period, self.axes = par, period, tuple(par.axes)
         self.reset()
 
     def reset(self):
@@ -217,12 +229,7 @@ class ReferencePid:
 
     def update(self, t, state, tau=None, nu_dot_true=None):
         par = self.par
-        if self.desired is None:
-            pos = (np.array(par.desired_position, dtype=float) if par.desired_position is not None
-                   else np.array(state.position, dtype=float))
-            yaw = par.desired_yaw if par.desired_yaw is not None else float(state.euler[2])
-            self.desired = np.array([*pos, 0.0, 0.0, yaw])
-        kin = kinematics(state, self.desired)
+        kin = kinematics(state, set_point(self, t, state))
         e = np.array([kin["error"][a] for a in self.axes])
         e_dot = np.array([kin["rate"][a] for a in self.axes])
         kp, ki, kd, limit = (np.array(x) for x in (par.kp, par.ki, par.kd, par.limit))

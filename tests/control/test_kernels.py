@@ -80,6 +80,13 @@ CASES = [
     ("smc-ne", {}),
     ("smc-ne", {"imu_noise": 0.05, "imu_bias": [0.01, 0, -0.02, 0.1, 0, 0.03], "imu_delay": 2, "imu_seed": 7}),
     ("smc-ne", {"imu_mode": "finite_difference", "imu_delay": 1, "b_source": "model"}),
+    # six axes (issue 16): per-axis gains, bounds or the model's b, level attitude, waypoints, both surfaces
+    ("smc-ab", {"axes": "all", "bandwidth": [3.0, 3.1, 2.0, 4.0, 4.5, 3.14], "b_heave": [30.0, 50.0]}),
+    ("smc-ab", {"axes": ["pitch", "heave", "roll"], "surface": "error_rate", "desired_roll": 0.01,
+                "waypoints": [[0.5, 0.0, 0.0, 0.02, 0.0, 0.01, 0.0], [2.2, 0.01, 0.0, -0.01, 0.02, -0.01, 0.1]]}),
+    ("smc-vehicle", {"axes": "all", "surface": "error_rate", "uncertainty": [0.5, 0.5, 1.0, 0.8, 0.8, 0.5],
+                     "boundary_layer": [0.02, 0.02, 0.03, 0.01, 0.01, 0.02]}),
+    ("smc-ne", {"axes": ["yaw", "heave", "pitch"], "imu_noise": 0.02, "imu_delay": 1, "eta": [0.4, 0.5, 0.6]}),
 ]
 
 
@@ -116,6 +123,23 @@ def test_pid_equals_the_python_law(model, recorded):
         close(data.signals, list(expected_signals.values()), f"signals at t = {t}")
         clamped += int(np.any(np.abs(wrench[[3, 4, 2]]) >= [20.0, 20.0, 2.0]))
     assert clamped > 10
+
+
+@pytest.mark.parametrize("parameters", [
+    {"axes": "all", "ki": [100.0, 100.0, 200.0, 5.0, 5.0, 5.0], "limit": 20.0},
+    {"axes": ["heave", "pitch"], "waypoints": [[1.0, 0.0, 0.0, 0.03, 0.0, 0.05, 0.0]], "limit": [15.0, 1.0]},
+])
+def test_six_axis_pid_equals_the_python_law(model, recorded, parameters):
+    controller = make_controller("pid", model, period=PERIOD, parameters=parameters)
+    reference = ReferencePid(controller.parameters, PERIOD)
+    data = controller.compiled(len(recorded))
+    wrench = np.zeros(6)
+    for t, x, tau, nu_dot in recorded:
+        controller_update(data, t, x, tau, nu_dot, wrench)
+        expected_wrench, expected_signals = reference.update(t, unpack(x, model.n_joints))
+        assert tuple(expected_signals) == controller.signal_names
+        close(wrench, expected_wrench, f"wrench at t = {t}")
+        close(data.signals, list(expected_signals.values()), f"signals at t = {t}")
 
 
 def test_python_update_is_the_kernel_and_reset_forgets(model, recorded):

@@ -38,8 +38,8 @@ AB, VEHICLE, NE = 0, 1, 2
 """Sliding-mode predictors (how ``f_hat`` is computed)."""
 
 # columns of ControllerData.gains (one row per axis slot, uvms.control.sliding_kernels.SURGE ... YAW)
-BANDWIDTH, ETA, PHI, UNCERTAINTY, B_HAT, BETA, KP, KI, KD, LIMIT = range(10)
-N_GAINS = 10
+BANDWIDTH, ETA, PHI, UNCERTAINTY, B_HAT, BETA, B_MODEL, KP, KI, KD, LIMIT = range(11)
+N_GAINS = 11
 
 # ControllerData.memory (int64)
 COUNT, N_MEMORY = 0, 1
@@ -62,7 +62,8 @@ class ControllerData(NamedTuple):
     beta_model: float           # beta with b_from_model
     log_b_hat: bool             # the signals include b_hat per axis
     axes: np.ndarray            # (k,) int64 axis slots, in logging order
-    gains: np.ndarray           # (6, N_GAINS) per axis slot: lambda, eta, Phi, F, b_hat, beta, kp, ki, kd, limit
+    gains: np.ndarray           # (6, N_GAINS) per axis slot: lambda, eta, Phi, F, b_hat, beta, b from the model
+                                #   (1.0) or b_hat/beta (0.0), kp, ki, kd, limit
     targets: np.ndarray         # (K, 7) waypoints [t_from, x, y, z, roll, pitch, yaw]; NaN: taken at the first update
     captured: np.ndarray        # (6,) pose at the first update (x, y, z, roll, pitch, yaw)
     desired: np.ndarray         # (6,) the set point of the last update
@@ -244,14 +245,16 @@ def _predict(ctrl, x, tau, nu_dot_true):
 @njit(cache=True, nogil=True)
 def _sliding_mode(ctrl, x, tau, nu_dot_true, wrench):
     inertia = _predict(ctrl, x, tau, nu_dot_true)
-    if ctrl.b_from_model:
-        inverse = np.linalg.inv(inertia)
-        for a in range(6):
-            j = sk.WRENCH_INDEX[a]
-            ctrl.b_hat[a] = 1.0 / inverse[j, j]
+    need_model = ctrl.b_from_model
+    for a in ctrl.axes:
+        if ctrl.gains[a, B_MODEL] > 0.0:
+            need_model = True
+    inverse = np.linalg.inv(inertia) if need_model else inertia
+    for a in range(6):
+        if ctrl.b_from_model or ctrl.gains[a, B_MODEL] > 0.0:
+            ctrl.b_hat[a] = 1.0 / inverse[sk.WRENCH_INDEX[a], sk.WRENCH_INDEX[a]]   # 1 / (I^-1)_jj
             ctrl.beta[a] = ctrl.beta_model
-    else:
-        for a in range(6):
+        else:
             ctrl.b_hat[a] = ctrl.gains[a, B_HAT]
             ctrl.beta[a] = ctrl.gains[a, BETA]
     sk.surface_accelerations(ctrl.kin, ctrl.nu_dot, ctrl.body_velocity, ctrl.f_hat)

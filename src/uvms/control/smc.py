@@ -55,6 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from uvms.control import sliding_kernels as kernels
+from uvms.control.axes import PAPER_AXES, axis_list, expand, per_axis, slots, waypoint_rows
 from uvms.control.base import ControlOutput, Measurement
 from uvms.control.registry import (
     at_least_one,
@@ -178,15 +179,25 @@ def axis_kinematics(state, position_desired: np.ndarray, yaw_desired: float) -> 
 class SlidingModeParameters:
     """Parameters of the sliding-mode controllers (defaults: the paper's values, ``docs/conventions.md``)."""
 
-    bandwidth: float = parameter(3.14, positive, "lambda [1/s]: the sliding surface s = vel + lambda e")
-    eta: float = parameter(0.5, positive, "reaching rate eta [m/s^2, rad/s^2]: d|s|/dt <= -eta outside the layer")
-    boundary_layer: float = parameter(0.02, positive, "Phi [m/s, rad/s]: boundary-layer thickness")
-    uncertainty: tuple[float, float, float] = parameter(
-        (0.5, 0.5, 0.5), vector(3, non_negative, scalar=True),
-        "F (surge, sway, yaw) [m/s^2, m/s^2, rad/s^2]: bound on |f - f_hat|")
+    axes: tuple[str, ...] = parameter(PAPER_AXES, axis_list,
+                                      "controlled axes, any of surge, sway, heave, roll, pitch, yaw (or all)")
+    bandwidth: tuple[float, ...] = parameter(3.14, per_axis(positive),
+                                             "lambda [1/s] of s = vel + lambda e (one, or one per axis)")
+    eta: tuple[float, ...] = parameter(0.5, per_axis(positive),
+                                       "reaching rate eta [m/s^2, rad/s^2]: d|s|/dt <= -eta outside the layer")
+    boundary_layer: tuple[float, ...] = parameter(0.02, per_axis(positive),
+                                                  "Phi [m/s, rad/s]: boundary-layer thickness (one, or per axis)")
+    uncertainty: tuple[float, ...] = parameter(
+        0.5, per_axis(non_negative), "F [m/s^2, rad/s^2]: bound on |f - f_hat| (one, or one per axis)")
     b_surge: tuple[float, float] = parameter(PAPER_B_TRANSLATION, bounds, "[b_min, b_max] surge mass [kg]")
     b_sway: tuple[float, float] = parameter(PAPER_B_TRANSLATION, bounds, "[b_min, b_max] sway mass [kg]")
     b_yaw: tuple[float, float] = parameter(PAPER_B_YAW, bounds, "[b_min, b_max] yaw inertia [kg m^2]")
+    b_heave: tuple[float, float] | None = parameter(None, optional(bounds), "[b_min, b_max] heave mass [kg] "
+                                                    "(default: b_hat from the controller's model, beta = b_margin)")
+    b_roll: tuple[float, float] | None = parameter(None, optional(bounds), "[b_min, b_max] roll inertia [kg m^2] "
+                                                   "(default: from the controller's model)")
+    b_pitch: tuple[float, float] | None = parameter(None, optional(bounds), "[b_min, b_max] pitch inertia "
+                                                    "[kg m^2] (default: from the controller's model)")
     b_source: str = parameter("fixed", choice("fixed", "model"),
                               "fixed: b from b_surge/b_sway/b_yaw; model: b_hat from the controller's model")
     b_margin: float = parameter(math.sqrt(PAPER_B_TRANSLATION[1] / PAPER_B_TRANSLATION[0]), at_least_one,
@@ -199,9 +210,29 @@ class SlidingModeParameters:
         None, optional(vector(3)), "world position to hold [m] (default: the position at the first update)")
     desired_yaw: float | None = parameter(None, optional(number),
                                           "yaw to hold [rad] (default: the yaw at the first update)")
+    desired_roll: float = parameter(0.0, number, "roll to hold [rad] (default: level)")
+    desired_pitch: float = parameter(0.0, number, "pitch to hold [rad] (default: level)")
+    waypoints: tuple[tuple[float, ...], ...] = parameter(
+        (), waypoint_rows, "later set points: rows [t, x, y, z, roll, pitch, yaw], each held from its time t [s] on")
+
+    def __post_init__(self) -> None:
+        for name in ("bandwidth", "eta", "boundary_layer", "uncertainty"):
+            object.__setattr__(self, name, expand(getattr(self, name), self.axes, name))
 
     def b_limits(self) -> tuple[tuple[float, float], ...]:
+        """The paper axes' bounds (surge, sway, yaw)."""
         return (self.b_surge, self.b_sway, self.b_yaw)
+
+    def b_bounds(self, axis: str) -> tuple[float, float] | None:
+        """``[b_min, b_max]`` of an axis, or ``None``: ``b_hat`` from the controller's model."""
+        return getattr(self, f"b_{axis}")
+
+    def targets(self) -> np.ndarray:
+        """The (K, 7) set-point table of :func:`uvms.control.kernels.targets_table`."""
+        from uvms.control.kernels import targets_table
+
+        return targets_table(self.desired_position, (self.desired_roll, self.desired_pitch, self.desired_yaw),
+                             self.waypoints)
 
 
 # ------------------------------------------------------------------------------------------ the models
@@ -278,7 +309,7 @@ class SlidingModeController(CompiledController):
         self._parameters = parameters or self.Parameters()
         self.period = float(period)
         self.plant = model
-        self.axes = AXES
+        self.axes = self.parameters.axes
 
     @property
     def parameters(self) -> SlidingModeParameters:
@@ -297,29 +328,33 @@ class SlidingModeController(CompiledController):
         raise NotImplementedError
 
     def gain_table(self) -> np.ndarray:
-        """(6, N_GAINS) per axis slot: lambda, eta, Phi, F, b_hat = sqrt(b_min b_max) (Eq. 28),
-        beta = sqrt(b_max / b_min) (Eq. 29)."""
+        """(6, N_GAINS) per axis slot: lambda, eta, Phi, F, and from ``[b_min, b_max]``
+        ``b_hat = sqrt(b_min b_max)`` (Eq. 28), ``beta = sqrt(b_max / b_min)`` (Eq. 29); axes without bounds
+        take ``b_hat`` from the controller's model (column ``B_MODEL``)."""
         from uvms.control import kernels as ck
 
         par = self.parameters
         gains = np.zeros((6, ck.N_GAINS))
-        for j, (slot, (b_min, b_max)) in enumerate(zip((kernels.SURGE, kernels.SWAY, kernels.YAW), par.b_limits())):
-            gains[slot, ck.BANDWIDTH] = par.bandwidth
-            gains[slot, ck.ETA] = par.eta
-            gains[slot, ck.PHI] = par.boundary_layer
+        for j, (axis, slot) in enumerate(zip(par.axes, slots(par.axes))):
+            gains[slot, ck.BANDWIDTH] = par.bandwidth[j]
+            gains[slot, ck.ETA] = par.eta[j]
+            gains[slot, ck.PHI] = par.boundary_layer[j]
             gains[slot, ck.UNCERTAINTY] = par.uncertainty[j]
-            gains[slot, ck.B_HAT] = math.sqrt(b_min * b_max)
-            gains[slot, ck.BETA] = math.sqrt(b_max / b_min)
+            b = par.b_bounds(axis)
+            if b is None:
+                gains[slot, ck.B_MODEL] = 1.0
+            else:
+                gains[slot, ck.B_HAT] = math.sqrt(b[0] * b[1])
+                gains[slot, ck.BETA] = math.sqrt(b[1] / b[0])
         return gains
 
     def compiled(self, n_updates: int):
         from uvms.control import kernels as ck
 
         par = self.parameters
-        slots = [kernels.AXIS_NAMES.index(a) for a in self.axes]
-        targets = ck.targets_table(par.desired_position, (None, None, par.desired_yaw))
-        return ck.controller_data(kind=ck.SLIDING, n_joints=self.plant.n_joints, period=self.period, axes=slots,
-                                  gains=self.gain_table(), targets=targets, n_signals=len(self.signal_names),
+        return ck.controller_data(kind=ck.SLIDING, n_joints=self.plant.n_joints, period=self.period,
+                                  axes=slots(self.axes), gains=self.gain_table(), targets=par.targets(),
+                                  n_signals=len(self.signal_names),
                                   body_velocity=par.surface == "body_velocity", b_from_model=par.b_source == "model",
                                   beta_model=float(par.b_margin), log_b_hat=par.b_source == "model",
                                   **self.model_options(n_updates))
