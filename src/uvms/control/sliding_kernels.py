@@ -1,9 +1,12 @@
-"""Compiled pieces of the sliding-mode update (paper Eqs. 24-30): the axis errors and rates, their
-accelerations, and Slotine's per-axis law. The equations are derived in :mod:`uvms.control.smc`, whose
-Python functions (:func:`~uvms.control.smc.axis_kinematics`, :func:`~uvms.control.smc.slotine_law`) wrap these
-kernels; a controller update calls them directly, so it costs a few microseconds, not tens.
+"""Compiled pieces of the station keepers' update (paper Eqs. 24-30): the per-axis errors and rates, their
+accelerations, and Slotine's per-axis law. The equations are derived in :mod:`uvms.control.smc` and
+``docs/conventions.md`` ("Six-axis station keeping"); the compiled update :func:`uvms.control.kernels.controller_update`
+calls these kernels, and the Python functions :func:`~uvms.control.smc.axis_kinematics` and
+:func:`~uvms.control.smc.slotine_law` wrap them.
 
-The axis kinematics of a state are a (7, 3) array, rows::
+The pose kinematics (:func:`pose_kinematics_into`) are a (N_KIN_ROWS, 6) array whose columns are the axis slots
+surge, sway, heave, roll, pitch, yaw. The paper's three axes (:func:`axis_kinematics_into`) are a (7, 3)
+array, rows::
 
     ERROR       e_x, e_y [m], e_psi [rad]         (e = R^T (p - p_d), e_psi wrapped to (-pi, pi])
     ERROR_RATE  e_dot_x, e_dot_y [m/s], psi_dot [rad/s]
@@ -28,9 +31,6 @@ from uvms.rotations import euler_zyx
 ERROR, ERROR_RATE, VELOCITY, ERROR3, RATE3, OMEGA, EULER = range(7)
 N_KINEMATICS_ROWS = 7
 
-S, K, F_HAT, COMMAND, E, B_HAT = range(6)
-"""Columns of the per-axis signal array written by :func:`sliding_mode_wrench`."""
-N_SIGNAL_COLUMNS = 6
 
 
 @njit(cache=True, nogil=True, inline="always")

@@ -1,7 +1,10 @@
 """Slotine's per-axis sliding-mode law (paper Section 5, Eqs. 24-30; Slotine & Li 1991), shared by the
 ``smc-ab``, ``smc-ne`` and ``smc-vehicle`` controllers, which differ only in how they predict ``f_hat``.
 
-Axes: surge, sway, yaw (``docs/conventions.md``, "Sliding-mode controller"). For a constant desired pose
+Axes: the paper's surge, sway, yaw by default (``docs/conventions.md``, "Sliding-mode controller"); any subset
+of the six with ``axes`` (``docs/conventions.md``, "Six-axis station keeping": heave like surge and sway, roll
+and pitch like yaw with their Euler rates; :func:`uvms.control.sliding_kernels.pose_kinematics_into`). For a
+constant desired pose
 ``(p_d, psi_d)``, the errors and their exact time derivatives (from ``R_dot = R [omega x]`` and Eq. 1's
 ``T2``) are::
 
@@ -70,13 +73,8 @@ from uvms.control.registry import (
 )
 from uvms.errors import UvmsInputError
 
-AXES: tuple[str, ...] = ("surge", "sway", "yaw")
-"""The controlled axes, in this order everywhere (errors, gains, logged signals)."""
-SIGNAL_NAMES = tuple(tuple(f"{kind}_{axis}" for kind in ("s", "k", "f_hat", "command", "e", "b_hat")) for axis in AXES)
-"""Logged signal names per axis (built once)."""
-
-WRENCH_INDEX: tuple[int, ...] = (3, 4, 2)
-"""Where each axis' command goes in the body wrench ``[K, M, N, X, Y, Z]``: X (surge), Y (sway), N (yaw)."""
+AXES: tuple[str, ...] = PAPER_AXES
+"""The paper's controlled axes (the default of ``axes``), in the order of :meth:`SlidingModeParameters.b_limits`."""
 
 PAPER_B_TRANSLATION = (36.0, 44.44)
 """Paper's bounds of the surge and sway effective mass [kg]."""
@@ -235,16 +233,6 @@ class SlidingModeParameters:
                              self.waypoints)
 
 
-# ------------------------------------------------------------------------------------------ the models
-
-
-def effective_inertia(inertia: np.ndarray) -> np.ndarray:
-    """Per axis (surge, sway, yaw), ``1 / (I^-1)_jj`` of a 6x6 inertia mapping a body wrench to ``nu_dot``:
-    the mass or inertia a force on that axis meets when every other axis is free [kg, kg, kg m^2]."""
-    inverse = np.linalg.inv(inertia)
-    return np.array([1.0 / inverse[j, j] for j in WRENCH_INDEX])
-
-
 # ------------------------------------------------------------------------------------------ the controller
 
 
@@ -293,11 +281,11 @@ class CompiledController:
 
 
 class SlidingModeController(CompiledController):
-    """Surge, sway and yaw sliding-mode station keeping; subclasses choose the model that predicts ``f_hat``
-    (:meth:`model_options`).
+    """Sliding-mode station keeping on the chosen axes (default: surge, sway, yaw); subclasses choose the model
+    that predicts ``f_hat`` (:meth:`model_options`).
 
-    Logged signals per axis ``a`` in (surge, sway, yaw): ``s_a``, ``k_a``, ``f_hat_a``, ``command_a``, ``e_a``
-    (and ``b_hat_a`` with ``b_source = "model"``), plus ``Phi``.
+    Logged signals per controlled axis ``a``: ``s_a``, ``k_a``, ``f_hat_a``, ``command_a``, ``e_a`` (and
+    ``b_hat_a`` with ``b_source = "model"``), plus ``Phi``.
     """
 
     name = "smc"

@@ -6,7 +6,7 @@ with every added-mass matrix and drag coefficient multiplied by ``hydro_scale`` 
 controller's own :class:`~uvms.dynamics.plant.ModelData`) gives the vehicle's ``nu_dot`` at the measured state
 and joint torques with ``f_0 = 0`` (Eqs. 16-17, 24-25); the arm's reaction on the vehicle is inside the
 articulated inertia ``I_0^*`` and bias ``beta_0^*``, so no acceleration measurement is needed. With
-``b_source = "model"``, ``b_hat`` is taken from ``I_0^*`` (:func:`uvms.control.smc.effective_inertia`). The
+``b_source = "model"``, ``b_hat`` is taken from ``I_0^*`` (``1 / (I_0^*^-1)_jj``). The
 update is :func:`uvms.control.kernels.controller_update` (predictor ``AB``).
 """
 
