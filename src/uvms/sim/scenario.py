@@ -17,7 +17,7 @@ from __future__ import annotations
 import hashlib
 import os
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib.resources import files
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -50,10 +50,12 @@ from uvms.schema_base import (
     Vec6,
     Vector,
     fail,
+    finite_number,
     sanitised_name,
     show,
     validation_input_error,
 )
+from uvms.sim.health import HealthLimits, actuation_metadata
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
 from uvms.sim.result import Result
 from uvms.state import State
@@ -282,6 +284,15 @@ class OutputsSpec(Spec):
     record_period: Positive | None = None         # [s]; default: every step (at most 20 000 samples)
 
 
+class HealthSpec(Spec):
+    """When the run counts as unhealthy (:mod:`uvms.sim.health`): an attitude past ``attitude_limit``, or a
+    thruster saturated more than ``saturation_limit`` of the time."""
+
+    attitude_limit: Positive = HealthLimits.attitude_limit            # largest |roll| or |pitch| [rad] (60 deg)
+    saturation_limit: Annotated[float, BeforeValidator(finite_number), Field(ge=0, le=1)] = \
+        HealthLimits.saturation_limit                                   # fraction of the run [-]
+
+
 class ScenarioSpec(Spec):
     """A whole scenario file."""
 
@@ -299,6 +310,7 @@ class ScenarioSpec(Spec):
     controller: ControllerSpec | None = None
     actuators: str = "ideal"                      # thruster layout (uvms.thrusters.layouts)
     outputs: OutputsSpec = OutputsSpec()
+    health: HealthSpec = HealthSpec()
 
     @field_validator("actuators")
     @classmethod
@@ -378,6 +390,40 @@ class Scenario:
         c = self.spec.controller
         return None if c is None else _make_controller(c, self.model, self.source)
 
+    def with_model(self, model: Model) -> Scenario:
+        """The same scenario on another (already loaded) model: its initial state, current, controller and
+        ``actuators: model`` are built for ``model``."""
+        return replace(self, model=model)
+
+    def simulate_options(self) -> dict[str, Any]:
+        """The keyword arguments of :func:`uvms.sim.run.simulate` that run this scenario: the one translation
+        of a scenario file into a simulation (:func:`run_scenario`, ``uvms compare``, ``uvms reproduce``;
+        callers that change one input replace its entry, e.g. ``controller`` or ``actuation``, and then call
+        :func:`uvms.sim.health.actuation_metadata` for a new ``actuation``)."""
+        from uvms.sim.run import Actuation
+
+        spec = self.spec
+        inputs = spec.inputs
+        joint_torques = inputs.torque_schedule()
+        control_period = None                     # the vehicle controller runs at its own period
+        if inputs.joint_trajectory is not None:
+            joint_torques = inputs.joint_trajectory.tracker_for(self.model)
+            control_period = inputs.joint_trajectory.period
+        actuation = Actuation.named(spec.actuators, self.model)
+        metadata = {"scenario": self.name, "scenario_source": self.source, "scenario_sha256": self.sha256,
+                    "model_source": self.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
+                    "controller": spec.controller.name if spec.controller else None,
+                    "health_limits": {"attitude_limit": spec.health.attitude_limit,
+                                      "saturation_limit": spec.health.saturation_limit},
+                    **actuation_metadata(actuation)}
+        return dict(
+            model=self.model, initial_state=self.initial_state(), duration=spec.duration, step=spec.step,
+            integrator=spec.integrator, fixed_base=self.fixed_base, joint_torques=joint_torques,
+            body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=self.current(),
+            controller=self.make_controller(), actuation=actuation, control_period=control_period,
+            record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
+            metadata=metadata)
+
 
 def bundled_scenarios() -> list[str]:
     """Names of the scenarios shipped with uvms."""
@@ -427,27 +473,12 @@ def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | 
 
 
 def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None] | None = None) -> Result:
-    """Simulate a scenario. A diverging run returns a :class:`Result` with ``complete = False`` and the reason
-    in ``message`` (nothing is raised); ``progress(t, duration)`` is called after each integration segment."""
-    from uvms.sim.run import Actuation, simulate
+    """Simulate a scenario (:meth:`Scenario.simulate_options`). A diverging run returns a :class:`Result` with
+    ``complete = False`` and the reason in ``message`` (nothing is raised); ``progress(t, duration)`` is called
+    after each integration segment. The result's summary carries its run health (:mod:`uvms.sim.health`)."""
+    from uvms.sim.run import simulate
 
-    spec = scenario.spec
-    inputs = spec.inputs
-    metadata = {"scenario": scenario.name, "scenario_source": scenario.source, "scenario_sha256": scenario.sha256,
-                "model_source": scenario.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
-                "controller": spec.controller.name if spec.controller else None}
-    joint_torques = inputs.torque_schedule()
-    control_period = None                         # the vehicle controller runs at its own period
-    if inputs.joint_trajectory is not None:
-        joint_torques = inputs.joint_trajectory.tracker_for(scenario.model)
-        control_period = inputs.joint_trajectory.period
-    return simulate(
-        scenario.model, scenario.initial_state(), duration=spec.duration, step=spec.step,
-        integrator=spec.integrator, fixed_base=scenario.fixed_base, joint_torques=joint_torques,
-        body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=scenario.current(),
-        controller=scenario.make_controller(), actuation=Actuation.named(spec.actuators, scenario.model),
-        control_period=control_period, record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
-        progress=progress, metadata=metadata)
+    return simulate(**scenario.simulate_options(), progress=progress)
 
 
 # ---------------------------------------------------------------------------------------------- helpers
