@@ -113,10 +113,11 @@ def compute_metrics(result, names: Sequence[str]) -> dict[str, float]:
 
 class Series:
     """Series and metrics of one result by name; derived series (Euler angles, axis errors, health) are
-    computed once."""
+    computed once. ``bandwidth`` is the ``lambda`` of the ``surface_<axis>`` series (default: the paper's)."""
 
-    def __init__(self, result) -> None:
+    def __init__(self, result, *, bandwidth: float | None = None) -> None:
         self.result = result
+        self.bandwidth = paper_bandwidth() if bandwidth is None else float(bandwidth)
         self._cache: dict[str, object] = {}
 
     def _once(self, key: str, compute: Callable[[], object]):
@@ -138,10 +139,10 @@ class Series:
 
     def axis(self) -> dict[str, np.ndarray]:
         """``error`` and ``s`` (K, 3) of :meth:`Result.axis_errors` (surge, sway, yaw; initial pose held; body
-        velocity surface, the paper's lambda)."""
+        velocity surface, ``lambda = self.bandwidth``)."""
         def compute():
             axes = self.result.axis_errors()
-            return {"error": axes.error, "s": axes.velocity + paper_bandwidth() * axes.error}
+            return {"error": axes.error, "s": axes.velocity + self.bandwidth * axes.error}
 
         return self._once("axis", compute)
 
