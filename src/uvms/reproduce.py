@@ -838,10 +838,16 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
         case_rows.append([name, f"{c['peak_abs_x_m'] * 1e3:.3g}", f"{c['peak_abs_y_m'] * 1e3:.3g}",
                           f"{math.degrees(c['peak_abs_yaw_rad']):.3g}", f"{c['peak_body_error_xy_m'] * 1e3:.3g}",
                           f"{c['peak_ee_deviation_m'] * 1e3:.3g}",
-                          ", ".join(f"{c['max_abs_s'][a] / PAPER_PHI:.3g}" for a in AXES), _health_words(c)])
+                          ", ".join(f"{c['max_abs_s'][a] / PAPER_PHI:.3g}" for a in AXES)])
+    health = "; ".join(f"{name}: {_health_words(c)}" for name, c in metrics["cases"].items())
+    limits = (metrics["cases"]["controlled"].get("health") or {}).get("limits") or {
+        "attitude_limit_rad": math.nan, "saturation_limit": math.nan}
     sections.append(Section("Cases", [Table(
         ["case", "peak abs x [mm]", "peak abs y [mm]", "peak abs yaw [deg]", "peak body xy error [mm]",
-         "peak end-effector deviation [mm]", "max abs(s) / Phi [-] (surge, sway, yaw)", "run health"], case_rows)]))
+         "peak end-effector deviation [mm]", "max abs(s) / Phi [-] (surge, sway, yaw)"], case_rows),
+        f"Run health (healthy: roll and pitch within {math.degrees(limits['attitude_limit_rad']):.4g} deg, no "
+        f"thruster saturated more than {limits['saturation_limit'] * 100:.4g} % of the run; `docs/scenarios.md`): "
+        f"{health}."]))
     if table is not None:
         sections.append(Section("Controllers compared", [
             "Released vehicle, the paper's torques. Model error factor: the controller model's added mass and drag "
