@@ -323,7 +323,7 @@ def _json_default(obj):
 PLOTTED_COLUMNS = ("t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "ee_x_m", "ee_y_m")
 """Columns every saved run's table has (what ``uvms plot`` needs at the least)."""
 
-_SUMMARY_TYPES = {"complete": bool, "message": str, "metadata": dict}
+_SUMMARY_TYPES = {"complete": bool, "message": str, "metadata": dict, "health": dict}
 _METADATA_TYPES = {"scenario": str, "vehicle": str, "controller": str}
 
 
