@@ -151,18 +151,18 @@ def plant_effective_inertia(model, result, *, every: int = 50) -> dict[str, list
     ``IA_0`` the articulated inertia of the whole system at the vehicle (arm and added mass included): the
     quantity the paper's ``b`` bounds (Eqs. 27-29) must contain."""
     from uvms.control.smc import effective_inertia
-    from uvms.dynamics.aba import aba
-    from uvms.dynamics.kernel_model import make_workspace
+    from uvms.dynamics.plant import forward_into, model_data
     from uvms.rotations import rotation_from_quaternion
 
     n = model.n_joints
-    ws = make_workspace(model.n_bodies)
+    md = model_data(model)
+    nu_dot, qdd, zero6, zero3 = np.zeros(6), np.zeros(n), np.zeros(6), np.zeros(3)
     values = []
-    for x in result.states[::every]:
-        aba(model.kernel, ws, rotation_from_quaternion(x[3:7]), x[7:13].copy(), x[13:13 + n].copy(),
-            x[13 + n:13 + 2 * n].copy(), np.zeros(n), np.zeros(6), np.zeros(6), np.zeros(3), np.zeros(3), False,
-            np.zeros(6), np.zeros(n))
-        values.append(effective_inertia(ws.IA[0]))
+    for k in range(0, len(result.time), every):
+        st = result.state(k)
+        forward_into(md, rotation_from_quaternion(st.quaternion), st.nu.copy(), st.q.copy(), st.qd.copy(),
+                     np.zeros(n), zero6, zero6, zero3, zero3, False, nu_dot, qdd)
+        values.append(effective_inertia(md.work.IA[0].copy()))   # the whole system's inertia at the vehicle
     v = np.array(values)
     return {axis: [float(v[:, j].min()), float(v[:, j].max())] for j, axis in enumerate(AXES)}
 
