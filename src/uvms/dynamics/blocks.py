@@ -126,28 +126,24 @@ def congruence_add_plucker(E, r, I, out, tmp):
 
     ``tmp`` is a 6x6 scratch matrix (rows 0-2: A, rows 3-5: B; its right half: C and D).
     """
-    # A = E^T I11 E, B = E^T I12 E, C = E^T I22 E (blocks of the rotated inertia)
-    for a in range(3):
-        for b in range(3):
-            sa = 0.0
-            sb = 0.0
-            sc = 0.0
-            for k in range(3):
-                ea = E[k, a]
-                ta = 0.0
-                tb = 0.0
-                tc = 0.0
-                for m in range(3):
-                    em = E[m, b]
-                    ta += I[k, m] * em
-                    tb += I[k, 3 + m] * em
-                    tc += I[3 + k, 3 + m] * em
-                sa += ea * ta
-                sb += ea * tb
-                sc += ea * tc
-            tmp[a, b] = sa
-            tmp[3 + a, b] = sb
-            tmp[a, 3 + b] = sc
+    # A = E^T I11 E, B = E^T I12 E, C = E^T I22 E (blocks of the rotated inertia), column b at a time: the
+    # columns I11 E[:, b], I12 E[:, b], I22 E[:, b] once, then E^T times each
+    for b in range(3):
+        e0, e1, e2 = E[0, b], E[1, b], E[2, b]
+        p0 = I[0, 0] * e0 + I[0, 1] * e1 + I[0, 2] * e2
+        p1 = I[1, 0] * e0 + I[1, 1] * e1 + I[1, 2] * e2
+        p2 = I[2, 0] * e0 + I[2, 1] * e1 + I[2, 2] * e2
+        q0 = I[0, 3] * e0 + I[0, 4] * e1 + I[0, 5] * e2
+        q1 = I[1, 3] * e0 + I[1, 4] * e1 + I[1, 5] * e2
+        q2 = I[2, 3] * e0 + I[2, 4] * e1 + I[2, 5] * e2
+        c0 = I[3, 3] * e0 + I[3, 4] * e1 + I[3, 5] * e2
+        c1 = I[4, 3] * e0 + I[4, 4] * e1 + I[4, 5] * e2
+        c2 = I[5, 3] * e0 + I[5, 4] * e1 + I[5, 5] * e2
+        for a in range(3):
+            f0, f1, f2 = E[0, a], E[1, a], E[2, a]
+            tmp[a, b] = f0 * p0 + f1 * p1 + f2 * p2
+            tmp[3 + a, b] = f0 * q0 + f1 * q1 + f2 * q2
+            tmp[a, 3 + b] = f0 * c0 + f1 * c1 + f2 * c2
     # D = B + r x C, column by column: D[:, j] = B[:, j] + r x C[:, j]
     for j in range(3):
         c0, c1, c2 = tmp[0, 3 + j], tmp[1, 3 + j], tmp[2, 3 + j]
