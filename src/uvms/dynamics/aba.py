@@ -3,7 +3,8 @@ McMillan, Orin & McGhee 1995; paper Sections 3-4, Eqs. 13-23).
 
 Three passes, in the book's symbols (``S_i`` the joint's unit motion subspace; ``e_z`` for a DH joint):
 
-1. outward (:func:`uvms.dynamics.passes.outward_pass`): ``Xup, v, c`` and ``IA_i = I^H_i``, ``pA_i = beta^H``
+1. outward (:func:`uvms.dynamics.passes.outward_pass`): ``Xup = plucker(E, r)`` (kept as ``E, r``), ``v, c``,
+   each body's named forces and ``IA_i = I^H_i``, ``pA_i = beta^H``
 2. inward, tip to base (Eqs. 13-14), ``tau_p`` the joint's damping and friction
    (:func:`uvms.dynamics.passes.passive_joint_force`, left in ``u`` by the outward pass)::
 
@@ -16,7 +17,10 @@ Three passes, in the book's symbols (``S_i`` the joint's unit motion subspace; `
        a_0 = -IA_0^-1 pA_0   (floating base; a_0 = 0 when the vehicle is clamped)
        a'  = Xup_i a_p + c_i    qdd_i = (u_i - U_i^T a') / d_i    a_i = a' + S qdd_i
 
-``a_0`` is the vehicle's spatial acceleration in body axes, which is exactly ``nu_dot``.
+``a_0`` is the vehicle's spatial acceleration in body axes, which is exactly ``nu_dot``; every body's ``a_i`` is
+left in ``ws.a`` (read by :mod:`uvms.hydro.inspect`). Transforms are applied by their structure
+(:func:`~uvms.dynamics.blocks.transform_motion`, :func:`~uvms.dynamics.blocks.transform_force_add`,
+:func:`~uvms.dynamics.blocks.congruence_add_plucker`), never as dense 6x6 products.
 """
 
 from __future__ import annotations
