@@ -15,6 +15,7 @@ from numba import njit
 
 from uvms import checks
 from uvms.dynamics.jit import kernel
+from uvms.dynamics.kernel_model import JOINT_OFFSET
 from uvms.dynamics.passes import joint_transform
 
 
@@ -44,7 +45,7 @@ def link_poses(km, R0, p0, q, R_out, p_out, E, r):
     for i in range(1, nb + 1):
         if i < nb:
             p = km.parent[i]
-            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, 0],
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET],
                             E, r)
         else:
             p = km.ee_body

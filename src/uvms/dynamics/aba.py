@@ -29,7 +29,7 @@ from uvms.dynamics.jit import kernel
 
 from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, transform_force_add, transform_motion
 from uvms.dynamics.jit import kernel
-from uvms.dynamics.kernel_model import JOINT_Z
+from uvms.dynamics.kernel_model import JOINT_Z, Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass
 
 
@@ -49,11 +49,11 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
         U = ws.U[i]
         pA = ws.pA[i]
         c = ws.c[i]
-        if km.joint_kind[i] == JOINT_Z:         # S = e_z (modified DH): S^T x = x[2], IA S = IA[:, 2]
+        if km.joint_kind[i] == JOINT_Z:         # S = e_z (modified DH): S^T x = x[Z_AXIS], IA S = IA[:, Z_AXIS]
             for k in range(6):
-                U[k] = IA[k, 2]
-            d = U[2]
-            sp = pA[2]
+                U[k] = IA[k, Z_AXIS]
+            d = U[Z_AXIS]
+            sp = pA[Z_AXIS]
         else:
             S = km.S[i]
             for k in range(6):
@@ -106,7 +106,7 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
         qddi = (ws.u[i] - s) / ws.d[i]
         qdd[i - 1] = qddi
         if km.joint_kind[i] == JOINT_Z:
-            ai[2] += qddi
+            ai[Z_AXIS] += qddi
         else:
             for k in range(6):
                 ai[k] += km.S[i, k] * qddi

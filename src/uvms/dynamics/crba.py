@@ -14,15 +14,15 @@ from numba import njit
 
 from uvms.dynamics.blocks import congruence_add_plucker, transform_force_add
 from uvms.dynamics.jit import block, kernel
-from uvms.dynamics.kernel_model import JOINT_Z
+from uvms.dynamics.kernel_model import JOINT_OFFSET, JOINT_Z, Z_AXIS
 from uvms.dynamics.passes import joint_transform
 
 
 @block
 def sdot(kind, S, x):
-    """``S^T x`` for 6-vectors (``x[2]`` for a joint about z, ``kind == JOINT_Z``)."""
+    """``S^T x`` for 6-vectors (``x[Z_AXIS]`` for a joint about z, ``kind == JOINT_Z``)."""
     if kind == JOINT_Z:
-        return x[2]
+        return x[Z_AXIS]
     s = 0.0
     for k in range(6):
         s += S[k] * x[k]
@@ -35,7 +35,7 @@ def crba(km, ws, q, M):
     nb = km.parent.shape[0]
     for i in range(nb):
         if i > 0:
-            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, 0],
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET],
                             ws.E[i], ws.r[i])
         for r in range(6):
             for k in range(6):
@@ -49,12 +49,12 @@ def crba(km, ws, q, M):
     for r in range(6):
         for k in range(6):
             M[r, k] = ws.IA[0, r, k]
-    F = ws.rhs
-    G = ws.sw
+    F = ws.column
+    G = ws.column_up
     for i in range(1, nb):
         if km.joint_kind[i] == JOINT_Z:
             for k in range(6):
-                F[k] = ws.IA[i, k, 2]
+                F[k] = ws.IA[i, k, Z_AXIS]
         else:
             for k in range(6):
                 s = 0.0

@@ -17,6 +17,9 @@ from uvms.spatial import spatial_inertia
 
 JOINT_Z = 0
 """Joint kind: revolute about the joint frame's z axis (every modified-DH joint); the kernels' fast path."""
+Z_AXIS = 2
+"""Index of ``e_z`` in a ``[angular; linear]`` 6-vector: a ``JOINT_Z`` joint's motion subspace is ``S = e_z``, so
+``S^T x = x[Z_AXIS]``, ``I S = I[:, Z_AXIS]`` and ``v + S qd`` adds ``qd`` to ``v[Z_AXIS]``."""
 JOINT_REVOLUTE = 1
 """Joint kind: revolute (or continuous) about any unit axis."""
 JOINT_PRISMATIC = 2
@@ -97,8 +100,12 @@ class Workspace(NamedTuple):
     chol: np.ndarray    # (6, 6) Cholesky factor of the vehicle's articulated inertia (pass 3)
     h: np.ndarray       # (6,) I_i v_i (outward pass), I^H_i a_i (Newton-Euler)
     pa: np.ndarray      # (6,) pass 2: the bias force handed to the parent
-    rhs: np.ndarray     # (6,) pass 3: -pA_0; the CRBA's column F = IC_i S_i
-    sw: np.ndarray      # (6,) S_i qd_i; the CRBA's column moved to the parent
+    rhs: np.ndarray     # (6,) pass 3: -pA_0, the right-hand side of IA_0 a_0 = -pA_0
+    f_ee: np.ndarray    # (6,) the end-effector wrench moved to its body, eeX_b^T f_ee (Eq. 14)
+    no_wrench: np.ndarray   # (6,) zeros: the Newton-Euler algorithm's body wrench (it computes that wrench)
+    sw: np.ndarray      # (6,) S_i qd_i of a joint of any axis (outward pass)
+    column: np.ndarray  # (6,) CRBA: the force F = IC_i S_i of joint i's column, in the axes of the current body
+    column_up: np.ndarray   # (6,) CRBA: F handed to the parent, Xup_j^T F
     a_fluid: np.ndarray     # (6,) the fluid's acceleration seen in one body's axes (hydro.current)
     nu_c: np.ndarray    # (6,) relative velocity at a link's drag cylinder; Fossen / shape drag of one body
     f_c: np.ndarray     # (6,) drag in the cylinder's axes
@@ -199,6 +206,7 @@ def make_workspace(n_bodies: int) -> Workspace:
         IA=np.zeros((nb, 6, 6)), pA=np.zeros((nb, 6)), U=np.zeros((nb, 6)), d=np.zeros(nb), u=np.zeros(nb),
         g=np.zeros((nb, 3)), vc=np.zeros((nb, 3)), af=np.zeros((nb, 3)), nu_r=np.zeros((nb, 6)),
         forces=np.zeros((nb, N_FORCES, 6)), Ia=np.zeros((6, 6)), rotated=np.zeros((6, 6)), chol=np.zeros((6, 6)),
-        h=np.zeros(6), pa=np.zeros(6), rhs=np.zeros(6), sw=np.zeros(6), a_fluid=np.zeros(6), nu_c=np.zeros(6),
-        f_c=np.zeros(6), shape_work=np.zeros(WORK_SIZE),
+        h=np.zeros(6), pa=np.zeros(6), rhs=np.zeros(6), f_ee=np.zeros(6), no_wrench=np.zeros(6), sw=np.zeros(6),
+        column=np.zeros(6), column_up=np.zeros(6), a_fluid=np.zeros(6), nu_c=np.zeros(6), f_c=np.zeros(6),
+        shape_work=np.zeros(WORK_SIZE),
     )

@@ -20,7 +20,8 @@ import numpy as np
 
 from uvms.dynamics.blocks import crf_mul_add, crm_mul, mat3_vec, mat6_vec, transform_force_add, transform_motion
 from uvms.dynamics.jit import block
-from uvms.dynamics.kernel_model import ADDED_MASS, BUOYANCY, DRAG, GRAVITY, JOINT_PRISMATIC, JOINT_Z
+from uvms.dynamics.kernel_model import (ADDED_MASS, BUOYANCY, DAMPING, DRAG, FRICTION, GRAVITY, INV_SPEED, JOINT_OFFSET,
+                                        JOINT_PRISMATIC, JOINT_Z, Z_AXIS)
 from uvms.hydro.added_mass import added_mass_force
 from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
@@ -179,11 +180,11 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
             p = km.parent[i]
             kind = km.joint_kind[i]
             E = ws.E[i]
-            joint_transform(km.tree_E[i], km.tree_r[i], kind, km.S[i], q[i - 1] + km.joint[i, 0], E, ws.r[i])
+            joint_transform(km.tree_E[i], km.tree_r[i], kind, km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET], E, ws.r[i])
             transform_motion(E, ws.r[i], ws.v[p], vi)
             w = qd[i - 1]
             if kind == JOINT_Z:                  # S = e_z: the DH fast path
-                vi[2] += w
+                vi[Z_AXIS] += w
                 ci[0] = vi[1] * w
                 ci[1] = -vi[0] * w
                 ci[2] = 0.0
@@ -215,17 +216,17 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
             for k in range(6):
                 IA[r, k] = IH[r, k]
     for i in range(1, nb):                       # (a loop of its own: measurably faster than inside the one above)
-        ws.u[i] = passive_joint_force(km.joint[i, 1], km.joint[i, 2], km.joint[i, 3], qd[i - 1])
+        ws.u[i] = passive_joint_force(km.joint[i, DAMPING], km.joint[i, FRICTION], km.joint[i, INV_SPEED], qd[i - 1])
 
 
 @block
 def apply_external(km, ws, f_body, f_ee):
     """External wrenches into the bias forces ``ws.pA``: ``f_body`` on the vehicle (thrusters, Eq. 11) and
     ``f_ee`` (spatial force in end-effector axes) on the end effector's body ``b = km.ee_body``,
-    ``beta_b -= eeX_b^T f_ee`` (Eq. 14), ``eeX_b = plucker(km.ee_E, km.ee_r)`` (``ws.rhs`` is scratch)."""
+    ``beta_b -= eeX_b^T f_ee`` (Eq. 14), ``eeX_b = plucker(km.ee_E, km.ee_r)``."""
     for k in range(6):
         ws.pA[0, k] -= f_body[k]
-    f = ws.rhs
+    f = ws.f_ee
     for k in range(6):
         f[k] = 0.0
     transform_force_add(km.ee_E, km.ee_r, f_ee, f)

@@ -18,7 +18,7 @@ from uvms.dynamics.jit import kernel
 
 from uvms.dynamics.blocks import mat6_vec, transform_force_add, transform_motion
 from uvms.dynamics.jit import kernel
-from uvms.dynamics.kernel_model import JOINT_Z
+from uvms.dynamics.kernel_model import JOINT_Z, Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass
 
 
@@ -27,10 +27,9 @@ def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_ou
     """Write the body wrench ``f_body_out`` (6) and joint torques ``tau_out`` (n); ``f_ee`` as in the ABA."""
     nb = km.parent.shape[0]
     outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid)
-    zero = ws.pa
     for k in range(6):
-        zero[k] = 0.0
-    apply_external(km, ws, zero, f_ee)
+        ws.no_wrench[k] = 0.0
+    apply_external(km, ws, ws.no_wrench, f_ee)
     h = ws.h
 
     # -- outward: accelerations and body forces f_i = I^H a_i + p_i
@@ -43,7 +42,7 @@ def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_ou
             for k in range(6):
                 ai[k] += ws.c[i, k]
             if km.joint_kind[i] == JOINT_Z:     # S = e_z (modified DH)
-                ai[2] += qdd[i - 1]
+                ai[Z_AXIS] += qdd[i - 1]
             else:
                 for k in range(6):
                     ai[k] += km.S[i, k] * qdd[i - 1]
@@ -54,7 +53,7 @@ def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_ou
     # -- inward: joint torques, forces handed to the parent
     for i in range(nb - 1, 0, -1):
         if km.joint_kind[i] == JOINT_Z:
-            s = ws.pA[i, 2]
+            s = ws.pA[i, Z_AXIS]
         else:
             s = 0.0
             for k in range(6):
