@@ -11,6 +11,8 @@
   instead of a branch to a ``ZeroDivisionError`` after every division; results of finite arithmetic are the
   same.
 - no ``fastmath``: NaN and infinity must propagate to the finiteness checks unchanged.
+- ``nogil=True``: a kernel holds no Python object, so it releases the GIL; threads run in parallel
+  (:func:`uvms.rollout`).
 
 ``kernel`` compiles a function of its own; ``block`` a small helper inlined into its callers (numba-level
 inlining, for the spatial-algebra and per-effect helpers called once per body).
@@ -20,7 +22,7 @@ from __future__ import annotations
 
 from numba import njit
 
-OPTIONS = {"cache": True, "_nrt": False, "error_model": "numpy"}
+OPTIONS = {"cache": True, "_nrt": False, "error_model": "numpy", "nogil": True}
 
 kernel = njit(**OPTIONS)
 """Decorator of a compiled kernel (see the module docstring)."""

@@ -71,6 +71,19 @@ class StepScratch(NamedTuple):
     stages: np.ndarray          # (6, N): RK4's k1..k4, the stage state, one spare derivative
 
 
+class PlantData(NamedTuple):
+    """The fields of a :class:`Plant` as a named tuple (:func:`plant_data`): what kernels compiled without
+    reference counting (:mod:`uvms.dynamics.jit`) take, since reading a structure reference needs it."""
+
+    body: KernelModel
+    work: Workspace
+    actuators: tuple
+    fluid: FluidTable
+    scratch: StepScratch
+    fixed_base: bool
+    bounds: np.ndarray
+
+
 @structref.register
 class PlantType(types.StructRef):
     """numba type of :class:`Plant`."""
@@ -90,6 +103,13 @@ structref.define_proxy(Plant, PlantType, ["body", "work", "actuators", "fluid", 
 @njit(cache=True)
 def _new_plant(body, work, actuators, fluid, scratch, fixed_base, bounds):
     return Plant(body, work, actuators, fluid, scratch, fixed_base, bounds)
+
+
+@njit(cache=True, nogil=True)
+def plant_data(plant):
+    """The :class:`PlantData` of a :class:`Plant` (the same arrays)."""
+    return PlantData(plant.body, plant.work, plant.actuators, plant.fluid, plant.scratch, plant.fixed_base,
+                     plant.bounds)
 
 
 def model_data(model) -> ModelData:

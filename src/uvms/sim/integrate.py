@@ -21,6 +21,8 @@ import numpy as np
 from numba import njit
 
 from uvms.dynamics.aba import aba
+from uvms.dynamics.jit import block, kernel
+from uvms.dynamics.plant import plant_data
 from uvms.kinematics import quaternion_to_rotation
 from uvms.state import State
 from uvms.thrusters.actuation import actuator_rates
@@ -102,7 +104,7 @@ def samples(n_rows: int, size: int, every: int) -> Samples:
     return Samples(int(every), np.zeros(n_rows), np.zeros((n_rows, size)), np.zeros(1, dtype=np.int64))
 
 
-@njit(cache=True)
+@kernel
 def interpolate(table_t, table_v, t, out):
     """Linear interpolation of a (K, 3) table at ``t``, held constant outside its range."""
     K = table_t.shape[0]
@@ -127,7 +129,7 @@ def interpolate(table_t, table_v, t, out):
         out[k] = (1.0 - s) * table_v[lo, k] + s * table_v[hi, k]
 
 
-@njit(cache=True, inline="always")
+@block
 def state_derivative(plant, held, t, x, xdot):
     """``xdot = f(t, x)`` for the held inputs (:class:`~uvms.dynamics.plant.Held`) on the plant
     (:class:`~uvms.dynamics.plant.Plant`; its scratch is used)."""
@@ -174,7 +176,7 @@ def derivative(plant, held, t, x, xdot):
     state_derivative(plant, held, t, x, xdot)
 
 
-@njit(cache=True)
+@kernel
 def check_state(x, n, bounds):
     """0 if ``x`` is finite and within ``bounds`` = (|p|, |nu|, |qd|, |actuator|) limits, else the index of
     the first offending entry + 1 (negative for a non-finite value)."""
@@ -202,6 +204,12 @@ def check_state(x, n, bounds):
 
 @njit(cache=True, nogil=True)
 def rk4(plant, held, x, t0, h, n_steps, step0, record):
+    """:func:`rk4_steps` on a :class:`~uvms.dynamics.plant.Plant` (read once into its named tuple)."""
+    return rk4_steps(plant_data(plant), held, x, t0, h, n_steps, step0, record)
+
+
+@kernel
+def rk4_steps(plant, held, x, t0, h, n_steps, step0, record):
     """Advance ``x`` (in place) by ``n_steps`` classical RK4 steps of size ``h``, from global step ``step0``.
 
     ``t0`` is the time of global step 0: step ``k`` starts at ``t0 + k h``, the same floating-point value

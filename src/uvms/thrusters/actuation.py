@@ -13,8 +13,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from uvms.dynamics.jit import kernel
 from uvms.thrusters import first_order, healey, ideal, table
 from uvms.thrusters.layouts import layout_matrix
 
@@ -55,7 +55,7 @@ def n_actuator_states(act: ActuatorKernel) -> int:
     return int(sum(_N_STATES[int(k)] for k in act.kind))
 
 
-@njit(cache=True)
+@kernel
 def actuator_rates(act, states, command, f_body, rates, thrust):
     """Body wrench ``f_body = Lambda T`` (6), state rates and thrusts ``T`` (m) for the held commands."""
     m = act.kind.shape[0]
