@@ -51,7 +51,7 @@ _EXPORTS = {
     "Dynamics": "uvms.dynamics.api",
     "Result": "uvms.sim.result",
     "TorqueSchedule": "uvms.sim.inputs",
-    "hydrodynamic_wrenches": "uvms.hydro.inspect",
+    "hydrodynamic_wrenches": "uvms.dynamics.inspect",
     "show": "uvms.view",
     "trim": "uvms.model.trim",
     "trimmed_state": "uvms.model.trim",

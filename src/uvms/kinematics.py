@@ -1,7 +1,7 @@
 """Forward kinematics: every body frame, every named frame and the end effector in the world.
 
 ``R_i = R_p E_i^T`` and ``p_i = p_p + R_p r_i`` down the tree, with ``E_i, r_i`` the joint transforms of
-:func:`uvms.dynamics.passes.joint_transform`; the end effector is fixed in body ``ee_body`` (the last link by
+:func:`joint_transform` (the one kinematic primitive the dynamics passes share); the end effector is fixed in body ``ee_body`` (the last link by
 default), and a named frame (:class:`uvms.model.model.Frame`) is fixed in its body.
 """
 
@@ -14,9 +14,58 @@ import numpy as np
 from numba import njit
 
 from uvms import checks
-from uvms.dynamics.jit import kernel
-from uvms.dynamics.kernel_model import JOINT_OFFSET
-from uvms.dynamics.passes import joint_transform
+from uvms.dynamics.jit import block, kernel
+from uvms.dynamics.kernel_model import JOINT_OFFSET, JOINT_PRISMATIC, JOINT_Z
+
+
+@block
+def joint_transform(tree_E, tree_r, kind, S, q, E_out, r_out):
+    """Joint ``i``'s transform from its parent (Featherstone Table 4.1, ``Xup_i = XJ(q) XT_i``) at joint
+    coordinate ``q`` (offset included): ``E_out`` the parent-to-body coordinate rotation and ``r_out`` the body
+    origin in parent coordinates, so that ``Xup_i = plucker(E_out, r_out)`` (applied by its structure,
+    :func:`~uvms.dynamics.blocks.transform_motion`, never formed).
+
+    ``kind`` (:mod:`uvms.dynamics.kernel_model`): ``JOINT_Z`` revolute about z (modified DH),
+    ``E = Rz(q)^T E_T``; ``JOINT_REVOLUTE`` about the unit axis ``S[0:3]`` (joint-frame coordinates),
+    ``E = Rot(axis, q)^T E_T`` by Rodrigues' formula; ``JOINT_PRISMATIC`` along ``S[3:6]``, ``E = E_T``,
+    ``r = r_T + E_T^T axis q``. Revolute joints keep ``r = r_T``.
+    """
+    if kind == JOINT_PRISMATIC:
+        for a in range(3):
+            for j in range(3):
+                E_out[a, j] = tree_E[a, j]
+            r_out[a] = tree_r[a] + (tree_E[0, a] * S[3] + tree_E[1, a] * S[4] + tree_E[2, a] * S[5]) * q
+    elif kind == JOINT_Z:
+        c = np.cos(q)
+        s = np.sin(q)
+        for j in range(3):
+            E_out[0, j] = c * tree_E[0, j] + s * tree_E[1, j]
+            E_out[1, j] = -s * tree_E[0, j] + c * tree_E[1, j]
+            E_out[2, j] = tree_E[2, j]
+        for a in range(3):
+            r_out[a] = tree_r[a]
+    else:
+        c = np.cos(q)
+        s = np.sin(q)
+        t = 1.0 - c
+        x, y, z = S[0], S[1], S[2]
+        # R = Rot(axis, q) (joint frame to body); E = R^T tree_E, so E[a, j] = sum_b R[b, a] tree_E[b, j]
+        r00 = x * x * t + c
+        r11 = y * y * t + c
+        r22 = z * z * t + c
+        r01 = t * x * y - s * z
+        r10 = t * x * y + s * z
+        r02 = t * x * z + s * y
+        r20 = t * x * z - s * y
+        r12 = t * y * z - s * x
+        r21 = t * y * z + s * x
+        for j in range(3):
+            e0, e1, e2 = tree_E[0, j], tree_E[1, j], tree_E[2, j]
+            E_out[0, j] = r00 * e0 + r10 * e1 + r20 * e2
+            E_out[1, j] = r01 * e0 + r11 * e1 + r21 * e2
+            E_out[2, j] = r02 * e0 + r12 * e1 + r22 * e2
+        for a in range(3):
+            r_out[a] = tree_r[a]
 
 
 @kernel

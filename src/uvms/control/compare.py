@@ -164,10 +164,10 @@ def run_cases(model, cases: tuple[Case, ...] | None = None, *, progress: Callabl
     return results
 
 
-def compare_controllers(model, cases: tuple[Case, ...] | None = None, *, duration: float | None = None,
-                        step: float | None = None, period: float | None = None, hydro_scale: float | None = None,
-                        joint_torques=None, actuation=None, progress: Callable[[str], None] | None = None):
-    """Run every case on the paper scenario and tabulate :func:`metrics`.
+def compare_controllers(model, cases: tuple[Case, ...] | None = None, *, progress: Callable[[str], None] | None = None,
+                        **options):
+    """Run every case on the paper scenario and tabulate :func:`metrics`; ``options`` are :func:`run_case`'s
+    (``duration``, ``step``, ``period``, ``hydro_scale``, ``joint_torques``, ``actuation``).
 
     Returns:
         pandas.DataFrame, one row per case: ``case``, ``controller``, the metrics, ``complete`` (False if the
@@ -180,8 +180,7 @@ def compare_controllers(model, cases: tuple[Case, ...] | None = None, *, duratio
         if progress is not None:
             progress(case.label)
         wall0 = _time.perf_counter()
-        result = run_case(model, case, duration=duration, step=step, period=period, hydro_scale=hydro_scale,
-                          joint_torques=joint_torques, actuation=actuation)
+        result = run_case(model, case, **options)
         wall = _time.perf_counter() - wall0
         rows.append({"case": case.label, "controller": case.controller or "none", **metrics(result),
                      "complete": bool(result.complete), "healthy": bool(result.health().healthy),

@@ -96,25 +96,34 @@ class AxisCommand:
     command: float
 
 
-def slotine_law(error: float, rate: float, f_hat: float, *, bandwidth: float, eta: float, boundary_layer: float,
-                uncertainty: float, b_hat: float, beta: float, rate_desired: float = 0.0,
-                acc_desired: float = 0.0, error_rate: float | None = None) -> AxisCommand:
+_LAW_REQUIRED = ("bandwidth", "eta", "boundary_layer", "uncertainty", "b_hat", "beta")
+_LAW_OPTIONAL = {"rate_desired": 0.0, "acc_desired": 0.0, "error_rate": None}
+
+
+def slotine_law(error: float, rate: float, f_hat: float, **law: float) -> AxisCommand:
     """Slotine's law for one axis whose velocity variable obeys ``rate_dot = f + command / b`` (Eqs. 26-29;
     the compiled :func:`uvms.control.sliding_kernels.slotine`).
 
     Args:
         error: ``e = x - x_d``.  rate: the surface's velocity variable ``vel``.
         f_hat: model estimate of ``rate_dot`` at zero command.
-        bandwidth: ``lambda`` [1/s].  eta: reaching rate.  boundary_layer: ``Phi``.
-        uncertainty: ``F``, bound on ``|f - f_hat|``.
-        b_hat: ``sqrt(b_min b_max)``.  beta: ``sqrt(b_max / b_min) >= 1``.
-        rate_desired, acc_desired: desired ``vel`` and its derivative (0 for station keeping).
-        error_rate: the exact ``de/dt`` when it differs from ``rate - rate_desired`` (module docstring).
+        law: the gains, as keywords: ``bandwidth`` (``lambda`` [1/s]), ``eta`` (reaching rate),
+            ``boundary_layer`` (``Phi``), ``uncertainty`` (``F``, bound on ``|f - f_hat|``), ``b_hat``
+            (``sqrt(b_min b_max)``), ``beta`` (``sqrt(b_max / b_min) >= 1``); optionally ``rate_desired``,
+            ``acc_desired`` (desired ``vel`` and its derivative, 0 for station keeping) and ``error_rate`` (the
+            exact ``de/dt`` when it differs from ``rate - rate_desired``, module docstring).
     """
-    e_dot = rate - rate_desired if error_rate is None else error_rate
-    s, k, u_hat, command = kernels.slotine(float(error), float(rate), float(f_hat), float(bandwidth), float(eta),
-                                           float(boundary_layer), float(uncertainty), float(b_hat), float(beta),
-                                           float(rate_desired), float(acc_desired), float(e_dot))
+    missing = [name for name in _LAW_REQUIRED if name not in law]
+    unknown = sorted(set(law) - set(_LAW_REQUIRED) - set(_LAW_OPTIONAL))
+    if missing or unknown:
+        raise TypeError(f"slotine_law() needs {', '.join(_LAW_REQUIRED)} and accepts {', '.join(_LAW_OPTIONAL)}; "
+                        f"missing {missing}, unknown {unknown}")
+    g = {**_LAW_OPTIONAL, **law}
+    e_dot = rate - g["rate_desired"] if g["error_rate"] is None else g["error_rate"]
+    s, k, u_hat, command = kernels.slotine(float(error), float(rate), float(f_hat), float(g["bandwidth"]),
+                                           float(g["eta"]), float(g["boundary_layer"]), float(g["uncertainty"]),
+                                           float(g["b_hat"]), float(g["beta"]), float(g["rate_desired"]),
+                                           float(g["acc_desired"]), float(e_dot))
     return AxisCommand(s=s, k=k, u_hat=u_hat, command=command)
 
 

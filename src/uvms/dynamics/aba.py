@@ -18,7 +18,7 @@ Three passes, in the book's symbols (``S_i`` the joint's unit motion subspace; `
        a'  = Xup_i a_p + c_i    qdd_i = (u_i - U_i^T a') / d_i    a_i = a' + S qdd_i
 
 ``a_0`` is the vehicle's spatial acceleration in body axes, which is exactly ``nu_dot``; every body's ``a_i`` is
-left in ``ws.a`` (read by :mod:`uvms.hydro.inspect`). Transforms are applied by their structure
+left in ``ws.a`` (read by :mod:`uvms.dynamics.inspect`). Transforms are applied by their structure
 (:func:`~uvms.dynamics.blocks.transform_motion`, :func:`~uvms.dynamics.blocks.transform_force_add`,
 :func:`~uvms.dynamics.blocks.congruence_add_plucker`), never as dense 6x6 products.
 """

@@ -78,7 +78,7 @@ class Workspace(NamedTuple):
     """Scratch arrays for one kernel call, allocated once per run (never inside the loop).
 
     Per-body arrays (first index the body) hold what the passes compute and later passes or read-outs
-    (:mod:`uvms.hydro.inspect`, the controllers) use; the others are named scratch of one step of a pass."""
+    (:mod:`uvms.dynamics.inspect`, the controllers) use; the others are named scratch of one step of a pass."""
 
     E: np.ndarray       # (nb, 3, 3) parent-to-body coordinate rotation of Xup_i = plucker(E_i, r_i)
     r: np.ndarray       # (nb, 3) body origin in parent coordinates [m]

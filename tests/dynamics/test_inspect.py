@@ -1,5 +1,5 @@
 """Each body's named forces, read out of one evaluation of the articulated-body algorithm
-(:mod:`uvms.hydro.inspect`), against world-frame formulas written out here (paper Eqs. 2, 7-8)."""
+(:mod:`uvms.dynamics.inspect`), against world-frame formulas written out here (paper Eqs. 2, 7-8)."""
 
 from __future__ import annotations
 
