@@ -66,11 +66,19 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     The result's last row is the state at ``t = duration`` exactly, whatever the recording period.
     """
     wall0 = _time.perf_counter()
-    checks.model(model)
-    timing = Timing.of(duration, step)
-    integrator, recording = options.pop("integrator", "rk4"), options.pop("recording", None)
-    plan = RunPlan.build(model, initial_state, timing, (controller, actuation),
-                         grouped(inputs, integrator, recording, options))
+    plan = prepare(model, initial_state, duration=duration, step=step, controller=controller, actuation=actuation,
+                   inputs=inputs, **options)
     loop = run_compiled if compilable(plan) else run_python
     outcome, log = loop(plan, _Chunking(FIRST_CHUNK_STEPS, _next_chunk))
     return result_of(plan, outcome, log, wall0)
+
+
+def prepare(model, initial_state: State | None = None, *, duration: float, step: float = 1e-3, controller=None,
+            actuation: Actuation | None = None, inputs: Inputs | None = None, **options) -> RunPlan:
+    """The checked, compiled-ready :class:`~uvms.sim.plan.RunPlan` of a :func:`simulate` call (same arguments),
+    without running it: :func:`uvms.sim.batch.run_plans` runs many in threads."""
+    checks.model(model)
+    timing = Timing.of(duration, step)
+    integrator, recording = options.pop("integrator", "rk4"), options.pop("recording", None)
+    return RunPlan.build(model, initial_state, timing, (controller, actuation),
+                         grouped(inputs, integrator, recording, options))
