@@ -13,7 +13,6 @@ acceleration default to the model's environment and may be overridden per call (
 from __future__ import annotations
 
 import threading
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,20 +20,22 @@ import numpy as np
 from uvms import checks
 from uvms.dynamics.plant import build_plant, plant_forward, plant_inverse, plant_mass_matrix
 
-_local = threading.local()
-"""Per-thread :class:`Dynamics` of each model used through the convenience functions (a model's entry goes
-with the model: weak keys)."""
+_SLOT = "_uvms_dynamics"
+"""The model attribute holding a ``threading.local`` with each thread's :class:`Dynamics` of that model (used by
+the convenience functions)."""
 
 
 def dynamics_of(model) -> "Dynamics":
-    """This thread's :class:`Dynamics` of ``model`` (built at the first call)."""
-    cache = _local.__dict__.get("by_model")
-    if cache is None:
-        cache = _local.by_model = weakref.WeakKeyDictionary()
-    dyn = cache.get(checks.model(model))
-    if dyn is None:
-        dyn = cache[model] = Dynamics(model)
-    return dyn
+    """This thread's :class:`Dynamics` of ``model`` (built at the first call; kept in a thread-local slot of the
+    model object, so it goes with the model)."""
+    try:
+        return model.__dict__[_SLOT].dynamics
+    except (KeyError, AttributeError):
+        pass
+    checks.model(model)
+    local = model.__dict__.setdefault(_SLOT, threading.local())     # atomic: one slot per model
+    local.dynamics = Dynamics(model)
+    return local.dynamics
 
 
 _vec = checks.optional_vector
@@ -157,16 +158,13 @@ class Dynamics:
         f_ee = self._zero6 if ee_wrench is None else checks.vector(ee_wrench, 6, "ee_wrench", _WRENCH)
         env = self._env if current is None and fluid_acceleration is None else \
             self._environment(current, fluid_acceleration)
-        nu_dot = np.zeros(6)
-        qdd = np.zeros(n)
-        plant_forward(self.plant, state.quaternion, state.nu, state.q, state.qd, tau, f_body, f_ee, env,
-                      self.fixed_base, nu_dot, qdd)
-        total = sum(nu_dot.tolist()) + sum(qdd.tolist())  # any NaN or inf makes the sum one: fast test
-        if total - total != 0.0 and not checks.finite(nu_dot, qdd):
+        out = np.empty(6 + n)
+        if not plant_forward(self.plant, state.quaternion, state.nu, state.q, state.qd, tau, f_body, f_ee, env,
+                             self.fixed_base, out):
             raise checks.overflow("the accelerations", {
                 "state.nu": state.nu, "state.qd": state.qd, "joint_torques": tau, "body_wrench": f_body,
                 "ee_wrench": f_ee, "current": env[0], "fluid_acceleration": env[1]})
-        return Accelerations.trusted(nu_dot, qdd)
+        return Accelerations.trusted(out[:6], out[6:])
 
     def inverse(self, state, *, nu_dot, qdd, ee_wrench=None, current=None,
                 fluid_acceleration=None) -> tuple[np.ndarray, np.ndarray]:
