@@ -46,3 +46,32 @@ def test_a_command_runs_with_an_unwritable_cache(tmp_path):
                           env=env, timeout=120)
     assert proc.returncode == 0 and "net buoyancy" in proc.stdout
     assert proc.stderr.count("uvms: warning:") == 1 and "Traceback" not in proc.stderr
+
+
+def test_the_first_compile_notice_is_said_once_and_only_on_a_cold_cache(tmp_path, monkeypatch):
+    """With no compiled loop in numba's cache the notice is said once (through the CLI's writer); once the
+    loop's index file exists, or without a writer (library use), nothing is said."""
+    from uvms import _cache
+
+    said = []
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    assert _cache.announce_compile() is False                      # no writer set: library use
+    _cache.set_compile_notice(said.append)
+    assert _cache.announce_compile() is True and _cache.announce_compile() is False
+    assert len(said) == 1 and "first run only" in said[0] and "\n" not in said[0]
+    index = tmp_path / "uvms_sim_somewhere" / "compiled_loop.advance_loop-123.py311.nbi"
+    index.parent.mkdir()
+    index.write_bytes(b"")
+    _cache.set_compile_notice(said.append)
+    assert _cache.announce_compile() is False and len(said) == 1
+    _cache.set_compile_notice(None)
+
+
+def test_the_cli_says_it_before_a_run_but_not_for_bad_input(tmp_path, monkeypatch, capsys):
+    from uvms import cli
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    assert cli.main(["run", "no-such-scenario"]) == 2
+    assert "first run only" not in capsys.readouterr().err
+    assert cli.main(["run", "paper_case2_released", "-o", str(tmp_path / "out")]) == 0   # numba keeps its cache
+    assert capsys.readouterr().err.startswith("uvms: compiling the numerical kernels")

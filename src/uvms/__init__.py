@@ -8,6 +8,8 @@ Public API (stable names)::
     linearize(model, state, ...)               trim(model, q=...)       trimmed_state(model, q=...)
     frame_pose(model, state, name)             frame_poses(model, state)
     simulate(model, initial_state, ...)        hydrodynamic_wrenches(model, state, ...)
+    rollout(model, trials, duration=, ...)     Simulator(model, state, step=, ...): reset(), step(duration)
+    Dynamics(model): forward, inverse, mass_matrix (the checked owner of a model's compiled plant)
 
 Names are imported on first use so that ``import uvms`` (and ``uvms --help``) stays fast.
 """
@@ -39,6 +41,14 @@ _EXPORTS = {
     "load_model": "uvms.model.load",
     "State": "uvms.state",
     "simulate": "uvms.sim.run",
+    "Inputs": "uvms.sim.options",
+    "Recording": "uvms.sim.options",
+    "Actuation": "uvms.sim.options",
+    "rollout": "uvms.sim.batch",
+    "Trial": "uvms.sim.batch",
+    "Batch": "uvms.sim.batch",
+    "Simulator": "uvms.sim.stepper",
+    "Dynamics": "uvms.dynamics.api",
     "Result": "uvms.sim.result",
     "TorqueSchedule": "uvms.sim.inputs",
     "hydrodynamic_wrenches": "uvms.hydro.inspect",

@@ -66,6 +66,48 @@ def _temporary_folder() -> Path:
     return folder
 
 
+FIRST_COMPILE_NOTICE = ("uvms: compiling the numerical kernels for this machine (first run only, about {minutes}; "
+                        "later runs start in about a second)")
+"""What the CLI says once when the compiled kernels are not cached yet (instead of a progress bar at 0)."""
+
+FIRST_COMPILE_MINUTES = "1-2 minutes"
+"""The cold-cache compile time measured on a 2-core machine (README, benchmarks)."""
+
+
+def compiled_before(kernel: str = "compiled_loop.advance_loop") -> bool:
+    """Whether numba's cache holds ``kernel`` (``module.function``) already: its index file exists in the cache
+    folder. ``True`` when the folder is unknown (nothing sensible to say)."""
+    folder = os.environ.get("NUMBA_CACHE_DIR")
+    if not folder:
+        return True
+    try:
+        return any(Path(folder).rglob(f"{kernel}-*.nbi"))
+    except OSError:
+        return True
+
+
+_announce = None
+"""Where :func:`announce_compile` says it (set by the CLI: stderr); ``None``: say nothing (library use)."""
+
+
+def set_compile_notice(write) -> None:
+    """Let :func:`announce_compile` call ``write(text)`` (once per process)."""
+    global _announce
+    _announce = write
+
+
+def announce_compile() -> bool:
+    """Just before the first compiled run of the process (its inputs checked): if the kernels are not cached
+    yet, say :data:`FIRST_COMPILE_NOTICE` through the function given to :func:`set_compile_notice`, once.
+    Returns whether it was said."""
+    global _announce
+    write, _announce = _announce, None
+    if write is None or compiled_before():
+        return False
+    write(FIRST_COMPILE_NOTICE.format(minutes=FIRST_COMPILE_MINUTES))
+    return True
+
+
 def configure() -> None:
     """Point numba's cache at ``<cache home>/uvms/numba-<fingerprint>`` unless the user chose a folder.
 

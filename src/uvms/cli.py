@@ -47,6 +47,9 @@ def main(argv: list[str] | None = None) -> int:
     """Run the CLI and return the exit code (``--help``, ``--version`` and usage errors included)."""
     try:
         args = build_parser().parse_args(argv)
+        from uvms._cache import set_compile_notice
+
+        set_compile_notice(lambda text: print(text, file=sys.stderr, flush=True))
         return int(args._run(args))
     except SystemExit as exc:  # argparse: --help, --version
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)

@@ -72,9 +72,9 @@ def fig4_ee_path(results: dict, path) -> str:
     for case in draw_order:
         ee = results[case].end_effector * scale
         st = CASE_STYLE[case]
-        draw_path(ax, ee[:, 0], ee[:, 1], color=st["color"], linestyle=st["linestyle"],
-                  linewidth=2.6 if case == "controlled" else 1.4, zorder=3 if case == "fixed" else 2,
-                  arrows=2 if case != "controlled" else 0)
+        draw_path(ax, ee[:, 0], ee[:, 1], color=st["color"], arrows=2 if case != "controlled" else 0,
+                  line={"linestyle": st["linestyle"], "linewidth": 2.6 if case == "controlled" else 1.4,
+                        "zorder": 3 if case == "fixed" else 2})
     handles = [Line2D([], [], color=CASE_STYLE[c]["color"], linestyle=CASE_STYLE[c]["linestyle"],
                       linewidth=2.6 if c == "controlled" else 1.4, label=CASE_STYLE[c]["label"]) for c in cases]
     handles += [Line2D([], [], marker="o", color="0.3", markerfacecolor="white", linestyle="", label="start"),

@@ -57,12 +57,16 @@ def length_unit(*values) -> tuple[float, str]:
     return (1e3, "mm") if peak < SMALL_LENGTH else (1.0, "m")
 
 
-def draw_path(ax: Axes, north, east, *, color: str, label: str | None = None, linestyle: str = "-",
-              linewidth: float = 1.5, zorder: float = 2, markers: bool = True, arrows: int = 2) -> None:
+def draw_path(ax: Axes, north, east, *, color: str, label: str | None = None, line: dict | None = None,
+              markers: bool = True, arrows: int = 2) -> None:
     """A path in the world's horizontal plane, drawn as a map: east to the right, north up (the one orientation
     of every X-Y path in uvms: ``uvms plot`` and the paper's Figure 4). The start is a circle, the end a
-    square, and ``arrows`` arrowheads along the path (at equal arc-length fractions) show the direction."""
+    square, and ``arrows`` arrowheads along the path (at equal arc-length fractions) show the direction.
+    ``line``: ``linestyle`` (default ``"-"``), ``linewidth`` (1.5) and ``zorder`` (2)."""
     import numpy as np
+
+    line = {"linestyle": "-", "linewidth": 1.5, "zorder": 2, **(line or {})}
+    linestyle, linewidth, zorder = line["linestyle"], line["linewidth"], line["zorder"]
 
     north, east = np.asarray(north, dtype=float), np.asarray(east, dtype=float)
     ax.plot(east, north, color=color, linestyle=linestyle, linewidth=linewidth, zorder=zorder, label=label)
@@ -134,7 +138,7 @@ def plot_end_effector_path(ax: Axes, table) -> Axes:
     (:func:`draw_path`), with the vehicle centre's path; start (circle), end (square), direction (arrows)."""
     scale, unit = length_unit(table["ee_x_m"], table["ee_y_m"], table["x_m"], table["y_m"])
     draw_path(ax, table["ee_x_m"] * scale, table["ee_y_m"] * scale, color="tab:blue", label="end effector")
-    draw_path(ax, table["x_m"] * scale, table["y_m"] * scale, color="tab:gray", linestyle="--",
+    draw_path(ax, table["x_m"] * scale, table["y_m"] * scale, color="tab:gray", line={"linestyle": "--"},
               label="vehicle centre", arrows=1)
     ax.plot([], [], "o", color="0.3", markerfacecolor="white", label="start")
     ax.plot([], [], "s", color="0.3", label="end")

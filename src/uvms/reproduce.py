@@ -32,17 +32,18 @@ from typing import Any, Callable
 
 import numpy as np
 
+from uvms.control.compare import IMU_NOISE
+from uvms.control.smc import SlidingModeParameters
 from uvms.output import atomic_write_text, staged_directory
 
-PAPER_LAMBDA = 3.14
+_PAPER = SlidingModeParameters()
+"""The paper's controller values: the defaults of the sliding-mode parameters, their one definition."""
+PAPER_LAMBDA = _PAPER.bandwidth
 """Sliding-surface bandwidth lambda [1/s] (appendix)."""
-PAPER_PHI = 0.02
+PAPER_PHI = _PAPER.boundary_layer
 """Boundary-layer thickness Phi (appendix)."""
-PAPER_MODEL_ERROR = 0.4
+PAPER_MODEL_ERROR = _PAPER.hydro_scale
 """Controller model's added mass and drag = 0.4 x the plant's: the paper's "differed by 60 %"."""
-DURATION = 10.0
-STEP = 1e-3
-CONTROL_PERIOD = 0.01
 ACTUATORS = {"ideal": "ideal", "healey": "paper-sway", "paper-layout": "paper"}
 """``--actuators`` choices and the thruster layout each one uses."""
 AXES = ("surge", "sway", "yaw")
@@ -52,11 +53,8 @@ FIGURES = tuple(f"{stem}.png" for stem in FIGURE_STEMS)
 """The figures' file names in the default format (``--format png``)."""
 FORMATS = ("png", "svg", "pdf")
 """``--format`` choices for the figures."""
-PAPER_B = {"surge": (36.0, 44.44), "sway": (36.0, 44.44), "yaw": (1.287, 1.5889)}
-"""The paper's bounds ``[b_min, b_max]`` of Eqs. 27-29 [kg, kg, kg m^2] (as in :mod:`uvms.control.smc`)."""
-IMU_NOISE = {"imu_noise": 0.05, "imu_delay": 2, "imu_seed": 1}
-"""``smc-ne``'s IMU in the central-claim run and the comparison: 0.05 m/s^2 (rad/s^2) white noise, 2 samples
-late, a fixed seed (repeatable)."""
+PAPER_B = dict(zip(AXES, _PAPER.b_limits()))
+"""The paper's bounds ``[b_min, b_max]`` of Eqs. 27-29 [kg, kg, kg m^2] (the defaults of :mod:`uvms.control.smc`)."""
 SAME_PRECISION = 0.25
 """Two peak position errors are "the same precision" when they differ by at most this fraction of the larger."""
 CHATTER_RATIO = 5.0
@@ -68,61 +66,83 @@ CASE_FOLDER = "cases"
 CASE_SCENARIOS = {"fixed": "paper_case1_fixed", "released": "paper_case2_released",
                   "controlled": "paper_case3_controlled"}
 """The bundled scenario file (``src/uvms/scenarios/``) that defines each case: duration, step, joint torques,
-vehicle fixed or released, controller and its period. The report overrides only the actuators (``--actuators``)
-and the controller's model error and boundary layer (the paper's 0.4 and Phi, or Phi / 100 for the chatter
-check)."""
+vehicle fixed or released, controller, its period and parameters (the paper's: the defaults). The report
+overrides only the actuators of the controlled case (``--actuators``) and, for the chatter check, the
+boundary layer (Phi / 100)."""
 
 
-def _simulate_case(model, case: str, actuators: str, *, boundary_layer: float = PAPER_PHI):
-    """One case, as its scenario file defines it (:data:`CASE_SCENARIOS`), with ``actuators``."""
+def __getattr__(name: str):
+    """``DURATION``, ``STEP`` [s] and ``CONTROL_PERIOD`` [s]: the controlled case's scenario file's values (read
+    on first use, never re-typed)."""
+    if name in ("DURATION", "STEP", "CONTROL_PERIOD"):
+        spec = _case_spec("controlled")
+        return {"DURATION": spec.duration, "STEP": spec.step, "CONTROL_PERIOD": spec.controller.period}[name]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _case_spec(case: str):
+    from uvms.sim.scenario import load_scenario
+
+    return load_scenario(CASE_SCENARIOS[case]).spec
+
+
+def _simulate_case(model, case: str, actuators: str, *, boundary_layer: float | None = None):
+    """One case, as its scenario file defines it (:data:`CASE_SCENARIOS`, through
+    :meth:`~uvms.sim.scenario.Scenario.simulate_options`) on ``model``, the controlled case with ``actuators``
+    and, if given, the controller's ``boundary_layer``."""
     from uvms.control.registry import make_controller
+    from uvms.sim.health import actuation_metadata
     from uvms.sim.run import Actuation, simulate
     from uvms.sim.scenario import load_scenario
 
-    scenario = load_scenario(CASE_SCENARIOS[case])
+    scenario = load_scenario(CASE_SCENARIOS[case]).with_model(model)
     spec = scenario.spec
-    controller = None
-    actuation = None
-    period = CONTROL_PERIOD
+    options = scenario.simulate_options()
+    metadata = {key: value for key, value in options["metadata"].items() if key != "thrust_limits_N"}
     if spec.controller is not None:
-        period = spec.controller.period
-        parameters = {**spec.controller.parameters, "hydro_scale": PAPER_MODEL_ERROR,
-                      "boundary_layer": boundary_layer}
-        controller = make_controller(spec.controller.name, model, period=period, parameters=parameters)
+        parameters = dict(spec.controller.parameters)
+        if boundary_layer is not None:
+            parameters["boundary_layer"] = boundary_layer
         actuation = Actuation.named(ACTUATORS[actuators])
-    return simulate(model, duration=spec.duration, step=spec.step, integrator=spec.integrator,
-                    joint_torques=spec.inputs.torque_schedule(), fixed_base=scenario.fixed_base,
-                    controller=controller, actuation=actuation, control_period=period,
-                    metadata={"case": case, "actuators": actuators, "scenario": scenario.name,
-                              "vehicle": spec.vehicle, "controller": spec.controller.name if controller else None})
+        options.update(controller=make_controller(spec.controller.name, model, period=spec.controller.period,
+                                                  parameters=parameters),
+                       actuation=actuation, control_period=spec.controller.period)
+        metadata.update(actuation_metadata(actuation))
+    options["metadata"] = {**metadata, "case": case, "actuators": actuators}
+    return simulate(**options)
 
 
 def case_metrics(result, fixed, *, bandwidth: float = PAPER_LAMBDA, phi: float = PAPER_PHI) -> dict[str, Any]:
-    """The metrics of one case (see ``docs/reproduce.md``); ``fixed`` is the fixed-base run for the ee path."""
-    from uvms.control.compare import axis_series, sign_changes
-    series = axis_series(result, bandwidth=bandwidth)
-    err = series["error"]
-    pos = result.position - result.position[0]
-    yaw = result.euler[:, 2] - result.euler[0, 2]             # unwrapped: a drift past 180 deg counts in full
+    """The metrics of one case (see ``docs/reproduce.md``), named metrics of :mod:`uvms.sim.metrics`; ``fixed``
+    is the fixed-base run for the end-effector path."""
+    from uvms.sim.metrics import Series
+
+    series = Series(result, bandwidth=bandwidth)
+    s_states = series.axis()["s"]
     dt = float(np.median(np.diff(result.time)))
+
+    def or_zero(value: float) -> float:
+        return value if np.isfinite(value) else 0.0
+
     out: dict[str, Any] = {
-        "peak_abs_x_m": float(np.abs(pos[:, 0]).max()),
-        "peak_abs_y_m": float(np.abs(pos[:, 1]).max()),
-        "peak_abs_yaw_rad": float(np.abs(yaw).max()),
-        "peak_body_error_xy_m": float(np.hypot(err[:, 0], err[:, 1]).max()),
+        "peak_abs_x_m": series.metric("peak_abs_x_m"),
+        "peak_abs_y_m": series.metric("peak_abs_y_m"),
+        "peak_abs_yaw_rad": series.metric("peak_abs_yaw_rad"),   # unwrapped: a drift past 180 deg counts in full
+        "peak_body_error_xy_m": series.metric("peak_body_error_xy_m"),
         "peak_ee_deviation_m": float(np.linalg.norm(result.end_effector - fixed.end_effector, axis=1).max()),
         "max_abs_s": {}, "time_outside_boundary_s": {}, "peak_command": {}, "command_sign_changes": {},
         "final_q": result.q[-1].tolist(),
         "complete": bool(result.complete),
     }
     for j, axis in enumerate(AXES):
-        s = result.signals.get(f"s_{axis}", series["s"][:, j])
-        s = np.where(np.isfinite(s), s, series["s"][:, j])
+        s = result.signals.get(f"s_{axis}", s_states[:, j])      # the controller's own s where it logged one
+        s = np.where(np.isfinite(s), s, s_states[:, j])
         out["max_abs_s"][axis] = float(np.abs(s).max())
         out["time_outside_boundary_s"][axis] = float(np.count_nonzero(np.abs(s) > phi) * dt)
-        c = result.signals.get(f"command_{COMMAND_OF_AXIS[axis]}")
-        out["peak_command"][axis] = float(np.nanmax(np.abs(c))) if c is not None else 0.0
-        out["command_sign_changes"][axis] = sign_changes(c) if c is not None else 0
+        command = f"command_{COMMAND_OF_AXIS[axis]}"
+        out["peak_command"][axis] = or_zero(series.metric(f"max_abs_{command}"))
+        out["command_sign_changes"][axis] = int(or_zero(series.metric(f"sign_changes_{command}")))
+    out["health"] = series.health().as_dict()
     return out
 
 
@@ -131,18 +151,18 @@ def plant_effective_inertia(model, result, *, every: int = 50) -> dict[str, list
     ``IA_0`` the articulated inertia of the whole system at the vehicle (arm and added mass included): the
     quantity the paper's ``b`` bounds (Eqs. 27-29) must contain."""
     from uvms.control.smc import effective_inertia
-    from uvms.dynamics.aba import aba
-    from uvms.dynamics.kernel_model import make_workspace
+    from uvms.dynamics.plant import forward_into, model_data
     from uvms.rotations import rotation_from_quaternion
 
     n = model.n_joints
-    ws = make_workspace(model.n_bodies)
+    md = model_data(model)
+    nu_dot, qdd, zero6, zero3 = np.zeros(6), np.zeros(n), np.zeros(6), np.zeros(3)
     values = []
-    for x in result.states[::every]:
-        aba(model.kernel, ws, rotation_from_quaternion(x[3:7]), x[7:13].copy(), x[13:13 + n].copy(),
-            x[13 + n:13 + 2 * n].copy(), np.zeros(n), np.zeros(6), np.zeros(6), np.zeros(3), np.zeros(3), False,
-            np.zeros(6), np.zeros(n))
-        values.append(effective_inertia(ws.IA[0]))
+    for k in range(0, len(result.time), every):
+        st = result.state(k)
+        forward_into(md, rotation_from_quaternion(st.quaternion), st.nu.copy(), st.q.copy(), st.qd.copy(),
+                     np.zeros(n), zero6, zero6, zero3, zero3, False, nu_dot, qdd)
+        values.append(effective_inertia(md.work.IA[0].copy()))   # the whole system's inertia at the vehicle
     v = np.array(values)
     return {axis: [float(v[:, j].min()), float(v[:, j].max())] for j, axis in enumerate(AXES)}
 
@@ -186,8 +206,7 @@ def comparison(model, *, factors=(0.4, 1.0, 1.6), actuators=("ideal", "healey"),
         for factor in factors:
             if progress:
                 progress(f"comparison: {act} actuators, model error factor {factor}")
-            df = compare_controllers(model, cases, duration=DURATION, step=STEP, period=CONTROL_PERIOD,
-                                     hydro_scale=factor, actuation=Actuation.named(ACTUATORS[act]))
+            df = compare_controllers(model, cases, hydro_scale=factor, actuation=Actuation.named(ACTUATORS[act]))
             df.insert(1, "actuators", act)
             df.insert(2, "model_error_factor", factor)
             frames.append(df)
@@ -589,10 +608,29 @@ ANIMATION = "animation_case2_vs_case3.html"
 
 
 def _chatter(controlled, small) -> dict:
-    from uvms.control.compare import sign_changes
+    from uvms.sim.metrics import sign_changes
 
     return {"paper": {k: sign_changes(controlled.signals[f"command_{k}"]) for k in ("X", "Y", "N")},
             "small": {k: sign_changes(small.signals[f"command_{k}"]) for k in ("X", "Y", "N")}}
+
+
+def _health_words(case: dict) -> str:
+    """A case's run health (:mod:`uvms.sim.health`) in a few words: ``healthy`` or its warning."""
+    health = case.get("health") or {}
+    if not health:
+        return "-"
+    return "healthy" if health["healthy"] else health["warning"]
+
+
+def _setup_words() -> str:
+    """The controlled case's run settings, in words, from its scenario file."""
+    spec = _case_spec("controlled")
+    schedule = spec.inputs.torque_schedule()
+    torques = ", then ".join(f"[{', '.join(f'{x:g}' for x in row)}] N m" + (f" until {schedule.times[k + 1]:g} s"
+                                                                           if k + 1 < len(schedule.times) else "")
+                             for k, row in enumerate(schedule.torques))
+    return (f"{spec.duration:g} s at {spec.step * 1e3:g} ms RK4, controller every {spec.controller.period * 1e3:g} "
+            f"ms; joint torques {torques}")
 
 
 def _reproduce_into(out: Path, actuators: str, compare: bool, progress, wall0: float, *, figure_format: str = "png",
@@ -641,7 +679,6 @@ def _reproduce_into(out: Path, actuators: str, compare: bool, progress, wall0: f
     # the central claim: smc-ab against smc-ne with a noisy, delayed IMU, same actuators and model error
     say("central claim: smc-ne with a noisy IMU")
     extra["controlled_smc_ne_imu"] = run_case(model, Case("smc-ne (noisy IMU)", "smc-ne", dict(IMU_NOISE)),
-                                              duration=DURATION, step=STEP, period=CONTROL_PERIOD,
                                               hydro_scale=PAPER_MODEL_ERROR,
                                               actuation=Actuation.named(ACTUATORS[actuators]))
     ab, ne = command_activity(results["controlled"]), command_activity(extra["controlled_smc_ne_imu"])
@@ -763,8 +800,7 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
     sections.append(Section("Setup", [
         f"Actuators `{act}`; controller model error factor {PAPER_MODEL_ERROR} (its added mass and drag are "
         f"{PAPER_MODEL_ERROR} x the plant's, the paper's 60 %); Phi = {PAPER_PHI}, lambda = {PAPER_LAMBDA} 1/s, "
-        f"epsilon = Phi / lambda = {eps_mm:.2f} mm; {DURATION:g} s at {STEP * 1e3:g} ms RK4, controller every "
-        f"{CONTROL_PERIOD * 1e3:g} ms; joint torques [2.5, 0, 0] N m until 2 s, then [0.01, 0, 0] N m."]))
+        f"epsilon = Phi / lambda = {eps_mm:.2f} mm; {_setup_words()}."]))
     sections.append(Section("The paper's claims", [Table(["claim", "measured here", "verdict"],
                                                         _claim_rows([central] + rows))]))
     ab, ne = central["smc-ab"], central["smc-ne (noisy IMU)"]
@@ -803,9 +839,15 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
                           f"{math.degrees(c['peak_abs_yaw_rad']):.3g}", f"{c['peak_body_error_xy_m'] * 1e3:.3g}",
                           f"{c['peak_ee_deviation_m'] * 1e3:.3g}",
                           ", ".join(f"{c['max_abs_s'][a] / PAPER_PHI:.3g}" for a in AXES)])
+    health = "; ".join(f"{name}: {_health_words(c)}" for name, c in metrics["cases"].items())
+    limits = (metrics["cases"]["controlled"].get("health") or {}).get("limits") or {
+        "attitude_limit_rad": math.nan, "saturation_limit": math.nan}
     sections.append(Section("Cases", [Table(
         ["case", "peak abs x [mm]", "peak abs y [mm]", "peak abs yaw [deg]", "peak body xy error [mm]",
-         "peak end-effector deviation [mm]", "max abs(s) / Phi [-] (surge, sway, yaw)"], case_rows)]))
+         "peak end-effector deviation [mm]", "max abs(s) / Phi [-] (surge, sway, yaw)"], case_rows),
+        f"Run health (healthy: roll and pitch within {math.degrees(limits['attitude_limit_rad']):.4g} deg, no "
+        f"thruster saturated more than {limits['saturation_limit'] * 100:.4g} % of the run; `docs/scenarios.md`): "
+        f"{health}."]))
     if table is not None:
         sections.append(Section("Controllers compared", [
             "Released vehicle, the paper's torques. Model error factor: the controller model's added mass and drag "

@@ -1,7 +1,8 @@
 """``uvms compare``: the station-keeping controllers side by side on the paper's scenario.
 
 Runs :data:`uvms.control.compare.DEFAULT_CASES` (``smc-ab``, ``smc-ne`` with a perfect and a noisy IMU,
-``smc-vehicle``, ``pid``) on the paper's case 3 (vehicle released, paper torques, ideal actuation) and prints
+``smc-vehicle``, ``pid``) on the paper's case 3 (the bundled scenario ``paper_case3_controlled``, with ideal
+actuation) and prints
 peak body-frame errors, peak ``|s|`` per axis, RMS commands and a chatter count; ``--json FILE`` saves them.
 """
 
@@ -17,19 +18,36 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the arguments of ``uvms compare``."""
     parser.add_argument("--model", default="paper", metavar="FILE_OR_NAME",
                         help="model YAML file or bundled model name (default: paper)")
-    parser.add_argument("--duration", type=float, default=10.0, metavar="S", help="simulated time [s] (default: 10)")
-    parser.add_argument("--step", type=float, default=1e-3, metavar="S", help="RK4 step [s] (default: 0.001)")
-    parser.add_argument("--period", type=float, default=0.01, metavar="S",
-                        help="controller update period [s] (default: 0.01)")
-    parser.add_argument("--hydro-scale", type=float, default=0.4, metavar="FACTOR",
+    parser.add_argument("--duration", type=float, default=None, metavar="S",
+                        help="simulated time [s] (default: the scenario file's, 10)")
+    parser.add_argument("--step", type=float, default=None, metavar="S",
+                        help="RK4 step [s] (default: the scenario file's, 0.001)")
+    parser.add_argument("--period", type=float, default=None, metavar="S",
+                        help="controller update period [s] (default: the scenario file's, 0.01)")
+    parser.add_argument("--hydro-scale", type=float, default=None, metavar="FACTOR",
                         help="controller model's added mass and drag / the plant's (default: 0.4, the paper's 60 %% error)")
     parser.add_argument("--json", metavar="FILE", default=None, help="also save the table and the settings as JSON")
+
+
+def _defaults(args: argparse.Namespace) -> None:
+    """Fill the options left out from the paper scenario file and the sliding-mode controllers' defaults."""
+    from uvms.control.compare import PAPER_SCENARIO
+    from uvms.control.smc import SlidingModeParameters
+    from uvms.sim.scenario import load_scenario
+
+    spec = load_scenario(PAPER_SCENARIO).spec
+    for name, value in (("duration", spec.duration), ("step", spec.step), ("period", spec.controller.period),
+                        ("hydro_scale", SlidingModeParameters().hydro_scale)):
+        if getattr(args, name) is None:
+            setattr(args, name, value)
 
 
 def _check(args: argparse.Namespace) -> None:
     import math
 
     from uvms.errors import UvmsInputError
+
+    _defaults(args)
 
     for name in ("duration", "step", "period"):
         value = getattr(args, name)
@@ -62,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
     from rich.table import Table
 
     from uvms.control.compare import compare_controllers, scenario_torques
+    from uvms.control.smc import SlidingModeParameters
     from uvms.errors import UvmsInputError
     from uvms.model import load_model
     from uvms.sim.result import atomic_write_text
@@ -88,15 +107,18 @@ def run(args: argparse.Namespace) -> int:
     records = table.to_dict("records")
     view.add_column("", no_wrap=True)
     for record in records:
-        view.add_column(escape(record["case"]) + ("" if record["complete"] else " (diverged)"), justify="right")
+        state = "" if record["complete"] and record["healthy"] else " (diverged)" if not record["complete"] else \
+            " (unhealthy)"
+        view.add_column(escape(record["case"]) + state, justify="right")
     for label, key, fmt in rows:
         view.add_row(escape(label), *[f"{r['chatter_X']}/{r['chatter_Y']}/{r['chatter_N']}" if key is None or fmt is None
                                       else fmt.format(r[key]) for r in records])
     out = Console()
     out.print(view)
-    out.print(escape(f"Peak body-frame errors (Phi/lambda = {0.02 / 3.14 * 1e3:.1f} mm with the paper's values); peak |s| "
-              "[m/s, rad/s] from the states with lambda = 3.14; RMS commands; chatter: sign changes of the command "
-              "increments."))
+    paper = SlidingModeParameters()
+    out.print(escape(f"Peak body-frame errors (Phi/lambda = {paper.boundary_layer / paper.bandwidth * 1e3:.1f} mm with "
+                     f"the paper's values); peak |s| [m/s, rad/s] from the states with lambda = {paper.bandwidth:g}; "
+                     "RMS commands; chatter: sign changes of the command increments."))
 
     if args.json:
         settings = {"model": model.name, "duration_s": args.duration, "step_s": args.step, "period_s": args.period,

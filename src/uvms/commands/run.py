@@ -3,7 +3,8 @@
 Writes ``DIR/result.csv`` (time series), ``DIR/result.json`` (summary and metadata) and ``DIR/scenario.yaml``
 (the scenario file, verbatim). Nothing is written before the scenario is valid; the results go to a hidden
 temporary sibling of ``DIR`` that is renamed into place at the end, so an interrupted run never leaves a
-half-written ``DIR``. A diverging run still saves what it computed (``"complete": false``) and exits 3.
+half-written ``DIR``. A diverging run still saves what it computed (``"complete": false``) and exits 3; a
+complete but unhealthy run (tumbled, thrusters saturated: :mod:`uvms.sim.health`) exits 0 with one warning line.
 """
 
 from __future__ import annotations
@@ -62,6 +63,9 @@ def run(args: argparse.Namespace) -> int:
     if not result.complete:
         print(f"uvms: error: {result.message}", file=sys.stderr)
         return 3
+    health = result.summary()["health"]
+    if health and not health["healthy"]:          # still a complete run: say it once, exit 0
+        print(f"uvms: warning: {health['warning']}", file=sys.stderr)
     return 0
 
 
@@ -136,6 +140,17 @@ def _summary_table(result, name: str):
         ("final joint angles", vec(fin["q_rad"]), "rad"),
         ("final end effector", vec(fin["end_effector_m"]), "m"),
     ]
+    health = s.get("health")
+    if health:
+        rows.append(("largest |roll|, |pitch|", vec([health["max_abs_roll_rad"], health["max_abs_pitch_rad"]], deg,
+                                                     "{:.3f}"), "deg"))
+        if health["saturated_fraction"]:
+            worst = max(health["saturated_fraction"].items(), key=lambda item: item[1])
+            rows.append((f"most saturated thruster ({worst[0]})", f"{worst[1] * 100:.1f}", "% of time"))
+            rows.append(("peak wrench not produced (force, moment)",
+                         f"{health['peak_unachieved_force_N']:.3g}, {health['peak_unachieved_moment_Nm']:.3g}",
+                         "N, N m"))
+        rows.append(("run health", "healthy" if health["healthy"] else "UNHEALTHY", ""))
     for key, value in sorted(s["peak_abs_signal"].items()):
         if key in ("command_X", "command_Y", "command_Z", "command_K", "command_M", "command_N"):
             rows.append((f"peak |{key}|", f"{value:.4g}", "N m" if key[-1] in "KMN" else "N"))

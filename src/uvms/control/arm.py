@@ -11,18 +11,29 @@ values outside its time range. Two trackers turn it into joint torques, each cal
   ``base="moving"`` with the vehicle's measured velocity ``nu`` (its acceleration is not measured: 0).
   With the plant's own model and a fixed base, the error obeys ``e_ddot + kd e_dot + kp e = 0``.
 - :class:`PdArm`: ``tau = kp (q_d - q) + kd (qd_d - qd)``, no model.
+
+Compiled side (issue 14): an :class:`ArmData` and :func:`arm_torques` give the joint torques inside a compiled
+loop; kinds :data:`CONSTANT` (:func:`constant_arm`), :data:`SCHEDULE` (piecewise constant, :func:`schedule_arm`),
+:data:`COMPUTED_TORQUE` (:meth:`ComputedTorqueArm.compiled`) and :data:`PD` (:meth:`PdArm.compiled`). The
+trackers' Python ``torques(time, state)`` call the same kernel. The spline is evaluated in compiled code from
+scipy's own piecewise-polynomial coefficients (``CubicSpline.c``, ``.x``): on the interval
+``x_i <= t < x_{i+1}`` (closed at the last knot), ``sum_k c[3-k, i] (t - x_i)^k`` and its derivatives, with the
+powers accumulated as scipy accumulates them.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
+from numba import njit
 
-from uvms.dynamics.kernel_model import make_workspace
-from uvms.dynamics.rnea import rnea
+from uvms.dynamics.plant import ModelData, inverse_into, model_data
 from uvms.errors import UvmsInputError
+
+CONSTANT, SCHEDULE, COMPUTED_TORQUE, PD = 0, 1, 2, 3
+"""Kinds of :class:`ArmData`."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,11 +69,21 @@ class JointTrajectory:
         return int(self.angles.shape[1])
 
     def __call__(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Desired ``(q_d, qd_d, qdd_d)`` at time ``t`` [rad, rad/s, rad/s^2]."""
-        if self._spline is None or t <= self.times[0] or t >= self.times[-1]:
-            q = self.angles[0] if self._spline is None or t <= self.times[0] else self.angles[-1]
-            return q.copy(), np.zeros(self.n_joints), np.zeros(self.n_joints)
-        return self._spline(t), self._spline(t, 1), self._spline(t, 2)
+        """Desired ``(q_d, qd_d, qdd_d)`` at time ``t`` [rad, rad/s, rad/s^2] (the compiled
+        :func:`desired_motion`)."""
+        n = self.n_joints
+        out = np.zeros((3, n))
+        breaks, coefficients = self.pieces()
+        desired_motion(self.times, self.angles, breaks, coefficients, float(t), out[0], out[1], out[2])
+        return out[0], out[1], out[2]
+
+    def pieces(self) -> tuple[np.ndarray, np.ndarray]:
+        """scipy's piecewise-polynomial breakpoints (K,) and coefficients (4, K - 1, n) of the spline
+        (one knot: empty)."""
+        if self._spline is None:
+            return np.zeros(0), np.zeros((4, 0, self.n_joints))
+        return (np.ascontiguousarray(self._spline.x, dtype=float),
+                np.ascontiguousarray(self._spline.c, dtype=float))
 
 
 def _gains(value, n: int, name: str) -> np.ndarray:
@@ -93,22 +114,18 @@ class ComputedTorqueArm:
             raise UvmsInputError(f"expected fixed or moving, found {base!r}", path="arm.base")
         self.model, self.trajectory, self.base, self.period = model, trajectory, base, float(period)
         self.kp, self.kd = _gains(kp, n, "arm.kp"), _gains(kd, n, "arm.kd")
-        self._ws = make_workspace(model.n_bodies)
-        self._zero6 = np.zeros(6)
-        self._f0 = np.zeros(6)
-        self._tau = np.zeros(n)
-        self._current = np.array(model.current, dtype=float)
-        self._fluid_acceleration = np.array(model.fluid_acceleration, dtype=float)
+        self._data: ArmData | None = None
+
+    def compiled(self) -> ArmData:
+        """A fresh :class:`ArmData` (kind :data:`COMPUTED_TORQUE`) with its own model data."""
+        return _tracker_data(COMPUTED_TORQUE, self.trajectory, self.kp, self.kd, model=self.model,
+                             moving_base=self.base == "moving")
 
     def torques(self, time: float, state) -> np.ndarray:
-        """Joint torques (n,) [N m] at ``time`` for the measured ``state``."""
-        q_d, qd_d, qdd_d = self.trajectory(time)
-        q, qd = np.array(state.q, dtype=float), np.array(state.qd, dtype=float)
-        qdd_ref = qdd_d + self.kd * (qd_d - qd) + self.kp * (q_d - q)
-        nu = np.array(state.nu, dtype=float) if self.base == "moving" else self._zero6
-        rnea(self.model.kernel, self._ws, state.rotation, nu, q, qd, self._zero6, qdd_ref, self._zero6,
-             self._current, self._fluid_acceleration, self._f0, self._tau)
-        return self._tau.copy()
+        """Joint torques (n,) [N m] at ``time`` for the measured ``state`` (:func:`arm_torques`)."""
+        if self._data is None:
+            self._data = self.compiled()
+        return _python_torques(self._data, time, state)
 
     __call__ = torques
 
@@ -123,10 +140,203 @@ class PdArm:
         n = trajectory.n_joints
         self.trajectory, self.period = trajectory, float(period)
         self.kp, self.kd = _gains(kp, n, "arm.kp"), _gains(kd, n, "arm.kd")
+        self._data: ArmData | None = None
+
+    def compiled(self) -> ArmData:
+        """A fresh :class:`ArmData` (kind :data:`PD`)."""
+        return _tracker_data(PD, self.trajectory, self.kp, self.kd)
 
     def torques(self, time: float, state) -> np.ndarray:
-        """Joint torques (n,) [N m] at ``time`` for the measured ``state``."""
-        q_d, qd_d, _ = self.trajectory(time)
-        return self.kp * (q_d - np.asarray(state.q)) + self.kd * (qd_d - np.asarray(state.qd))
+        """Joint torques (n,) [N m] at ``time`` for the measured ``state`` (:func:`arm_torques`)."""
+        if self._data is None:
+            self._data = self.compiled()
+        return _python_torques(self._data, time, state)
 
     __call__ = torques
+
+
+# ------------------------------------------------------------------------------------------ compiled
+
+
+class ArmData(NamedTuple):
+    """A compiled joint-torque source (numba type shared by every kind)."""
+
+    kind: int                   # CONSTANT, SCHEDULE, COMPUTED_TORQUE, PD
+    n_joints: int
+    constant: np.ndarray        # (n,) CONSTANT torques [N m]
+    times: np.ndarray           # (K,) SCHEDULE: row k from times[k]; trackers: the knot times
+    rows: np.ndarray            # (K, n) SCHEDULE: torques; trackers: the knot angles
+    half_step: float            # SCHEDULE: evaluated at (t + half_step) + 1e-12 (breakpoints snap to the grid)
+    breaks: np.ndarray          # (P + 1,) spline breakpoints (scipy's x)
+    coefficients: np.ndarray    # (4, P, n) spline coefficients (scipy's c, highest power first)
+    kp: np.ndarray              # (n,)
+    kd: np.ndarray              # (n,)
+    moving_base: bool           # COMPUTED_TORQUE: the measured nu enters the RNEA (else nu = 0)
+    model: ModelData            # COMPUTED_TORQUE: the model of the RNEA; a dummy otherwise
+    current: np.ndarray         # (3,) that model's world current [m/s]
+    fluid_acceleration: np.ndarray  # (3,)
+    desired: np.ndarray         # (3, n) scratch: q_d, qd_d, qdd_d
+    qdd_ref: np.ndarray         # (n,) scratch
+    R: np.ndarray               # (3, 3) scratch
+    nu: np.ndarray              # (6,) scratch
+    f0: np.ndarray              # (6,) scratch
+    zero6: np.ndarray           # (6,)
+
+
+def _arm_data(kind: int, n: int, **fields) -> ArmData:
+    from uvms.control.kernels import dummy_model_data
+
+    data = dict(kind=kind, n_joints=n, constant=np.zeros(n), times=np.zeros(1), rows=np.zeros((1, n)),
+                half_step=0.0, breaks=np.zeros(0), coefficients=np.zeros((4, 0, n)), kp=np.zeros(n), kd=np.zeros(n),
+                moving_base=False, model=None, current=np.zeros(3), fluid_acceleration=np.zeros(3),
+                desired=np.zeros((3, n)), qdd_ref=np.zeros(n), R=np.zeros((3, 3)), nu=np.zeros(6), f0=np.zeros(6),
+                zero6=np.zeros(6))
+    data.update(fields)
+    if data["model"] is None:
+        data["model"] = dummy_model_data()
+    return ArmData(**data)
+
+
+def constant_arm(tau) -> ArmData:
+    """Constant joint torques ``tau`` (n,) [N m] (kind :data:`CONSTANT`; zeros: no torques)."""
+    tau = np.array(tau, dtype=float).reshape(-1)
+    return _arm_data(CONSTANT, tau.size, constant=tau)
+
+
+def schedule_arm(schedule, step: float) -> ArmData:
+    """A :class:`~uvms.sim.inputs.TorqueSchedule` sampled as ``simulate`` samples it, ``schedule(t + 0.5 step)``
+    (kind :data:`SCHEDULE`): row ``k`` in force from ``times[k] - 0.5 step - 1e-12`` on."""
+    times = np.array(schedule.times, dtype=float)
+    rows = np.array(schedule.torques, dtype=float).reshape(times.size, -1)
+    return _arm_data(SCHEDULE, rows.shape[1], times=times, rows=rows, half_step=0.5 * float(step))
+
+
+def _tracker_data(kind, trajectory: JointTrajectory, kp, kd, *, model=None, moving_base=False) -> ArmData:
+    breaks, coefficients = trajectory.pieces()
+    fields = dict(times=np.array(trajectory.times, dtype=float), rows=np.array(trajectory.angles, dtype=float),
+                  breaks=breaks, coefficients=coefficients, kp=np.array(kp, dtype=float),
+                  kd=np.array(kd, dtype=float), moving_base=bool(moving_base))
+    if model is not None:
+        fields.update(model=model_data(model), current=np.array(model.current, dtype=float),
+                      fluid_acceleration=np.array(model.fluid_acceleration, dtype=float))
+    return _arm_data(kind, trajectory.n_joints, **fields)
+
+
+def _python_torques(data: ArmData, time: float, state) -> np.ndarray:
+    x = np.concatenate([state.position, state.quaternion, state.nu, state.q, state.qd]).astype(float)
+    tau = np.zeros(data.n_joints)
+    arm_torques(data, float(time), x, tau)
+    return tau
+
+
+@njit(cache=True, nogil=True)
+def _interval(breaks, t):
+    """``i`` with ``breaks[i] <= t < breaks[i + 1]``, the last interval closed on the right."""
+    last = breaks.shape[0] - 2
+    if t >= breaks[last + 1]:
+        return last
+    lo, hi = 0, last
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if breaks[mid] <= t:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+@njit(cache=True, nogil=True)
+def _piece(coefficients, i, j, s, order):
+    """Derivative ``order`` (0, 1, 2) of ``sum_k c[K-1-k] s^k`` on piece ``i`` for joint ``j``, the power of
+    ``s`` raised term by term (the arithmetic of scipy's piecewise-polynomial evaluation)."""
+    K = coefficients.shape[0]
+    value = 0.0
+    power = 1.0
+    for k in range(K):
+        if k >= order:
+            factor = 1.0
+            for f in range(k, k - order, -1):
+                factor *= f
+            value = value + coefficients[K - 1 - k, i, j] * power * factor
+            if k < K - 1:
+                power *= s
+    return value
+
+
+@njit(cache=True, nogil=True)
+def desired_motion(times, angles, breaks, coefficients, t, q_d, qd_d, qdd_d):
+    """The clamped cubic spline's ``(q_d, qd_d, qdd_d)`` at ``t``: the end angles at rest outside
+    ``(times[0], times[-1])`` and for a single knot (:class:`JointTrajectory`)."""
+    n = angles.shape[1]
+    if breaks.shape[0] == 0 or t <= times[0] or t >= times[times.shape[0] - 1]:
+        row = 0 if breaks.shape[0] == 0 or t <= times[0] else times.shape[0] - 1
+        for j in range(n):
+            q_d[j] = angles[row, j]
+            qd_d[j] = 0.0
+            qdd_d[j] = 0.0
+        return
+    i = _interval(breaks, t)
+    s = t - breaks[i]
+    for j in range(n):
+        q_d[j] = _piece(coefficients, i, j, s, 0)
+        qd_d[j] = _piece(coefficients, i, j, s, 1)
+        qdd_d[j] = _piece(coefficients, i, j, s, 2)
+
+
+@njit(cache=True, nogil=True)
+def _rotation(quaternion, R):
+    """Body-to-world ``R`` of a quaternion normalised by ``s = 1 / |q|`` (:meth:`uvms.state.State.rotation`)."""
+    qw, qx, qy, qz = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
+    s = 1.0 / np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+    w, x, y, z = qw * s, qx * s, qy * s, qz * s
+    R[0, 0] = 1 - 2 * (y * y + z * z)
+    R[0, 1] = 2 * (x * y - w * z)
+    R[0, 2] = 2 * (x * z + w * y)
+    R[1, 0] = 2 * (x * y + w * z)
+    R[1, 1] = 1 - 2 * (x * x + z * z)
+    R[1, 2] = 2 * (y * z - w * x)
+    R[2, 0] = 2 * (x * z - w * y)
+    R[2, 1] = 2 * (y * z + w * x)
+    R[2, 2] = 1 - 2 * (x * x + y * y)
+
+
+@njit(cache=True, nogil=True)
+def arm_torques(arm, t, x, tau):
+    """The joint torques ``tau`` (n,) [N m] at time ``t`` [s] for the state vector ``x``
+    (:mod:`uvms.sim.integrate` layout)::
+
+        CONSTANT         tau = constant
+        SCHEDULE         tau = rows[k], k the last row with times[k] <= (t + half_step) + 1e-12
+        PD               tau = kp (q_d - q) + kd (qd_d - qd)
+        COMPUTED_TORQUE  tau = RNEA_q(q, qd; qdd_d + kd (qd_d - qd) + kp (q_d - q)), nu = 0 unless moving_base
+    """
+    n = arm.n_joints
+    if arm.kind == CONSTANT:
+        for j in range(n):
+            tau[j] = arm.constant[j]
+        return
+    if arm.kind == SCHEDULE:
+        at = (t + arm.half_step) + 1e-12
+        k = 0
+        for r in range(1, arm.times.shape[0]):
+            if arm.times[r] <= at:
+                k = r
+        for j in range(n):
+            tau[j] = arm.rows[k, j]
+        return
+    q = x[13:13 + n]
+    qd = x[13 + n:13 + 2 * n]
+    desired_motion(arm.times, arm.rows, arm.breaks, arm.coefficients, t, arm.desired[0], arm.desired[1],
+                   arm.desired[2])
+    q_d, qd_d, qdd_d = arm.desired[0], arm.desired[1], arm.desired[2]
+    if arm.kind == PD:
+        for j in range(n):
+            tau[j] = arm.kp[j] * (q_d[j] - q[j]) + arm.kd[j] * (qd_d[j] - qd[j])
+        return
+    for j in range(n):
+        arm.qdd_ref[j] = qdd_d[j] + arm.kd[j] * (qd_d[j] - qd[j]) + arm.kp[j] * (q_d[j] - q[j])
+    for j in range(6):
+        arm.nu[j] = x[7 + j] if arm.moving_base else 0.0
+    _rotation(x[3:7], arm.R)
+    inverse_into(arm.model, arm.R, arm.nu, q, qd, arm.zero6, arm.qdd_ref, arm.zero6, arm.current,
+                 arm.fluid_acceleration, arm.f0, tau)

@@ -1,6 +1,6 @@
 """``pid``: a PID baseline on the same surge, sway and yaw errors as the sliding-mode controllers.
 
-Per axis, with ``e`` and ``e_dot`` from :func:`uvms.control.smc.axis_kinematics` (body-frame position error
+Per axis, with ``e`` and ``e_dot`` from :func:`uvms.control.sliding_kernels.pose_kinematics_into` (body-frame position error
 and its exact rate, yaw error and Euler yaw rate)::
 
     f = -(kp e + ki z + kd e_dot)    clipped to +/- limit         z = integral of e
@@ -21,51 +21,68 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uvms.control.base import ControlOutput, Measurement
 from uvms.control.registry import non_negative, number, optional, parameter, positive, register, vector
-from uvms.control.smc import AXES, PAPER_B_TRANSLATION, PAPER_B_YAW, WRENCH_INDEX, axis_kinematics
+from uvms.control.axes import PAPER_AXES, TRANSLATIONS, axis_list, expand, per_axis, slots, waypoint_rows
+from uvms.control.smc import PAPER_B_TRANSLATION, PAPER_B_YAW, CompiledController
 from uvms.errors import UvmsInputError
 
 _OMEGA = math.pi
 _B = (math.sqrt(PAPER_B_TRANSLATION[0] * PAPER_B_TRANSLATION[1]),) * 2 + (math.sqrt(PAPER_B_YAW[0] * PAPER_B_YAW[1]),)
 
 
-def _rounded(values) -> tuple[float, float, float]:
-    a, b, c = (float(f"{v:.4g}") for v in values)
-    return a, b, c
-
-
-DEFAULT_KP = _rounded(3 * _OMEGA**2 * b for b in _B)
-"""Default proportional gains (surge, sway, yaw) [N/m, N/m, N m/rad]."""
-DEFAULT_KI = _rounded(_OMEGA**3 * b for b in _B)
-"""Default integral gains [N/(m s), N/(m s), N m/(rad s)]."""
-DEFAULT_KD = _rounded(3 * _OMEGA * b for b in _B)
-"""Default derivative gains [N s/m, N s/m, N m s/rad]."""
+def default_gain(name: str, axis: str) -> float:
+    """Default ``kp``, ``ki``, ``kd`` or ``limit`` of an axis: the triple pole at ``-pi`` rad/s for the paper's
+    nominal ``b`` (40 kg on translations, 1.43 kg m^2 on rotations), limits 200 N and 50 N m."""
+    translation = axis in TRANSLATIONS
+    if name == "limit":
+        return 200.0 if translation else 50.0
+    b = _B[0] if translation else _B[2]
+    value = {"kp": 3 * _OMEGA**2 * b, "ki": _OMEGA**3 * b, "kd": 3 * _OMEGA * b}[name]
+    return float(f"{value:.4g}")
 
 
 @dataclass(frozen=True)
 class PidParameters:
-    """Gains and limits per axis (surge, sway, yaw); a single number applies to all three axes."""
+    """Gains and limits per axis; one number applies to every axis (default: :func:`default_gain`)."""
 
-    kp: tuple[float, float, float] = parameter(DEFAULT_KP, vector(3, non_negative, scalar=True),
-                                               "proportional gains [N/m, N/m, N m/rad]")
-    ki: tuple[float, float, float] = parameter(DEFAULT_KI, vector(3, non_negative, scalar=True),
-                                               "integral gains [N/(m s), N/(m s), N m/(rad s)]")
-    kd: tuple[float, float, float] = parameter(DEFAULT_KD, vector(3, non_negative, scalar=True),
-                                               "derivative gains [N s/m, N s/m, N m s/rad]")
-    limit: tuple[float, float, float] = parameter((200.0, 200.0, 50.0), vector(3, positive, scalar=True),
-                                                  "output limits [N, N, N m]")
+    axes: tuple[str, ...] = parameter(PAPER_AXES, axis_list,
+                                      "controlled axes, any of surge, sway, heave, roll, pitch, yaw (or all)")
+    kp: tuple[float, ...] | None = parameter(None, optional(per_axis(non_negative)),
+                                             "proportional gains [N/m, N m/rad] (default: triple pole at -pi)")
+    ki: tuple[float, ...] | None = parameter(None, optional(per_axis(non_negative)),
+                                             "integral gains [N/(m s), N m/(rad s)]")
+    kd: tuple[float, ...] | None = parameter(None, optional(per_axis(non_negative)),
+                                             "derivative gains [N s/m, N m s/rad]")
+    limit: tuple[float, ...] | None = parameter(None, optional(per_axis(positive)),
+                                                "output limits [N, N m] (default 200 N, 50 N m)")
     desired_position: tuple[float, float, float] | None = parameter(
         None, optional(vector(3)), "world position to hold [m] (default: the position at the first update)")
     desired_yaw: float | None = parameter(None, optional(number),
                                           "yaw to hold [rad] (default: the yaw at the first update)")
+    desired_roll: float = parameter(0.0, number, "roll to hold [rad] (default: level)")
+    desired_pitch: float = parameter(0.0, number, "pitch to hold [rad] (default: level)")
+    waypoints: tuple[tuple[float, ...], ...] = parameter(
+        (), waypoint_rows, "later set points: rows [t, x, y, z, roll, pitch, yaw], each held from its time t [s] on")
+
+    def __post_init__(self) -> None:
+        for name in ("kp", "ki", "kd", "limit"):
+            object.__setattr__(self, name, expand(getattr(self, name), self.axes, name,
+                                                  lambda axis, name=name: default_gain(name, axis)))
+
+    def targets(self) -> np.ndarray:
+        """The (K, 7) set-point table of :func:`uvms.control.kernels.targets_table`."""
+        from uvms.control.kernels import targets_table
+
+        return targets_table(self.desired_position, (self.desired_roll, self.desired_pitch, self.desired_yaw),
+                             self.waypoints)
 
 
 @register("pid")
-class PidController:
+class PidController(CompiledController):
     """PID station keeping on the body-frame surge and sway errors and the yaw error, with clamping anti-windup.
 
-    Logs per axis ``e_<axis>``, ``integral_<axis>``, ``command_<axis>``.
+    Logs per axis ``e_<axis>``, ``integral_<axis>``, ``command_<axis>``. The update is
+    :func:`uvms.control.kernels.controller_update` (kind ``PID``).
     """
 
     Parameters = PidParameters
@@ -75,38 +92,29 @@ class PidController:
             raise UvmsInputError(f"expected a period > 0 [s], found {period!r}", path="controller.period")
         self.parameters = parameters or PidParameters()
         self.period = float(period)
+        self.plant = model
+        self.axes = self.parameters.axes
         self.reset()
 
-    def reset(self) -> None:
-        """Zero the integrators and forget the captured desired pose."""
-        self._integral = np.zeros(3)
-        self._position_desired: np.ndarray | None = None
-        self._yaw_desired = 0.0
+    @property
+    def signal_names(self) -> tuple[str, ...]:
+        return tuple(f"{c}_{a}" for a in self.axes for c in ("e", "integral", "command"))
 
-    def update(self, measurement: Measurement) -> ControlOutput:
+    def gain_table(self) -> np.ndarray:
+        """(6, N_GAINS) with kp, ki, kd and the output limit per axis slot."""
+        from uvms.control import kernels as ck
+
         par = self.parameters
-        state = measurement.state
-        if self._position_desired is None:
-            self._position_desired = (np.array(par.desired_position, dtype=float) if par.desired_position is not None
-                                      else np.array(state.position, dtype=float))
-            self._yaw_desired = par.desired_yaw if par.desired_yaw is not None else float(state.euler[2])
-        kin = axis_kinematics(state, self._position_desired, self._yaw_desired)
-        kp, ki, kd, limit = (np.array(x) for x in (par.kp, par.ki, par.kd, par.limit))
-        e, e_dot = kin.error, kin.error_rate
-        unclamped = -(kp * e + ki * self._integral + kd * e_dot)
-        saturated = np.abs(unclamped) >= limit
-        pushing = np.sign(unclamped) == -np.sign(e)          # integrating e moves the output that way
-        advance = ~(saturated & pushing)
-        self._integral = np.where(advance, self._integral + e * self.period, self._integral)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cap = np.where(ki > 0, limit / ki, np.inf)
-        self._integral = np.clip(self._integral, -cap, cap)
-        force = np.clip(-(kp * e + ki * self._integral + kd * e_dot), -limit, limit)
-        wrench = np.zeros(6)
-        signals: dict[str, float] = {}
-        for j, axis in enumerate(AXES):
-            wrench[WRENCH_INDEX[j]] = force[j]
-            signals[f"e_{axis}"] = float(e[j])
-            signals[f"integral_{axis}"] = float(self._integral[j])
-            signals[f"command_{axis}"] = float(force[j])
-        return ControlOutput(wrench=wrench, signals=signals)
+        gains = np.zeros((6, ck.N_GAINS))
+        for j, slot in enumerate(slots(par.axes)):
+            gains[slot, [ck.KP, ck.KI, ck.KD, ck.LIMIT]] = par.kp[j], par.ki[j], par.kd[j], par.limit[j]
+        return gains
+
+    def compiled(self, n_updates: int):
+        from uvms.control import kernels as ck
+
+        par = self.parameters
+        n = 0 if self.plant is None else self.plant.n_joints
+        return ck.controller_data(kind=ck.PID, n_joints=n, period=self.period,
+                                  axes=slots(self.axes), gains=self.gain_table(), targets=par.targets(),
+                                  n_signals=len(self.signal_names))

@@ -1,7 +1,10 @@
 """Slotine's per-axis sliding-mode law (paper Section 5, Eqs. 24-30; Slotine & Li 1991), shared by the
 ``smc-ab``, ``smc-ne`` and ``smc-vehicle`` controllers, which differ only in how they predict ``f_hat``.
 
-Axes: surge, sway, yaw (``docs/conventions.md``, "Sliding-mode controller"). For a constant desired pose
+Axes: the paper's surge, sway, yaw by default (``docs/conventions.md``, "Sliding-mode controller"); any subset
+of the six with ``axes`` (``docs/conventions.md``, "Six-axis station keeping": heave like surge and sway, roll
+and pitch like yaw with their Euler rates; :func:`uvms.control.sliding_kernels.pose_kinematics_into`). For a
+constant desired pose
 ``(p_d, psi_d)``, the errors and their exact time derivatives (from ``R_dot = R [omega x]`` and Eq. 1's
 ``T2``) are::
 
@@ -55,6 +58,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from uvms.control import sliding_kernels as kernels
+from uvms.control.axes import PAPER_AXES, axis_list, expand, per_axis, slots, waypoint_rows
 from uvms.control.base import ControlOutput, Measurement
 from uvms.control.registry import (
     at_least_one,
@@ -69,13 +73,8 @@ from uvms.control.registry import (
 )
 from uvms.errors import UvmsInputError
 
-AXES: tuple[str, ...] = ("surge", "sway", "yaw")
-"""The controlled axes, in this order everywhere (errors, gains, logged signals)."""
-SIGNAL_NAMES = tuple(tuple(f"{kind}_{axis}" for kind in ("s", "k", "f_hat", "command", "e", "b_hat")) for axis in AXES)
-"""Logged signal names per axis (built once)."""
-
-WRENCH_INDEX: tuple[int, ...] = (3, 4, 2)
-"""Where each axis' command goes in the body wrench ``[K, M, N, X, Y, Z]``: X (surge), Y (sway), N (yaw)."""
+AXES: tuple[str, ...] = PAPER_AXES
+"""The paper's controlled axes (the default of ``axes``), in the order of :meth:`SlidingModeParameters.b_limits`."""
 
 PAPER_B_TRANSLATION = (36.0, 44.44)
 """Paper's bounds of the surge and sway effective mass [kg]."""
@@ -178,15 +177,25 @@ def axis_kinematics(state, position_desired: np.ndarray, yaw_desired: float) -> 
 class SlidingModeParameters:
     """Parameters of the sliding-mode controllers (defaults: the paper's values, ``docs/conventions.md``)."""
 
-    bandwidth: float = parameter(3.14, positive, "lambda [1/s]: the sliding surface s = vel + lambda e")
-    eta: float = parameter(0.5, positive, "reaching rate eta [m/s^2, rad/s^2]: d|s|/dt <= -eta outside the layer")
-    boundary_layer: float = parameter(0.02, positive, "Phi [m/s, rad/s]: boundary-layer thickness")
-    uncertainty: tuple[float, float, float] = parameter(
-        (0.5, 0.5, 0.5), vector(3, non_negative, scalar=True),
-        "F (surge, sway, yaw) [m/s^2, m/s^2, rad/s^2]: bound on |f - f_hat|")
+    axes: tuple[str, ...] = parameter(PAPER_AXES, axis_list,
+                                      "controlled axes, any of surge, sway, heave, roll, pitch, yaw (or all)")
+    bandwidth: tuple[float, ...] = parameter(3.14, per_axis(positive),
+                                             "lambda [1/s] of s = vel + lambda e (one, or one per axis)")
+    eta: tuple[float, ...] = parameter(0.5, per_axis(positive),
+                                       "reaching rate eta [m/s^2, rad/s^2]: d|s|/dt <= -eta outside the layer")
+    boundary_layer: tuple[float, ...] = parameter(0.02, per_axis(positive),
+                                                  "Phi [m/s, rad/s]: boundary-layer thickness (one, or per axis)")
+    uncertainty: tuple[float, ...] = parameter(
+        0.5, per_axis(non_negative), "F [m/s^2, rad/s^2]: bound on |f - f_hat| (one, or one per axis)")
     b_surge: tuple[float, float] = parameter(PAPER_B_TRANSLATION, bounds, "[b_min, b_max] surge mass [kg]")
     b_sway: tuple[float, float] = parameter(PAPER_B_TRANSLATION, bounds, "[b_min, b_max] sway mass [kg]")
     b_yaw: tuple[float, float] = parameter(PAPER_B_YAW, bounds, "[b_min, b_max] yaw inertia [kg m^2]")
+    b_heave: tuple[float, float] | None = parameter(None, optional(bounds), "[b_min, b_max] heave mass [kg] "
+                                                    "(default: b_hat from the controller's model, beta = b_margin)")
+    b_roll: tuple[float, float] | None = parameter(None, optional(bounds), "[b_min, b_max] roll inertia [kg m^2] "
+                                                   "(default: from the controller's model)")
+    b_pitch: tuple[float, float] | None = parameter(None, optional(bounds), "[b_min, b_max] pitch inertia "
+                                                    "[kg m^2] (default: from the controller's model)")
     b_source: str = parameter("fixed", choice("fixed", "model"),
                               "fixed: b from b_surge/b_sway/b_yaw; model: b_hat from the controller's model")
     b_margin: float = parameter(math.sqrt(PAPER_B_TRANSLATION[1] / PAPER_B_TRANSLATION[0]), at_least_one,
@@ -199,29 +208,84 @@ class SlidingModeParameters:
         None, optional(vector(3)), "world position to hold [m] (default: the position at the first update)")
     desired_yaw: float | None = parameter(None, optional(number),
                                           "yaw to hold [rad] (default: the yaw at the first update)")
+    desired_roll: float = parameter(0.0, number, "roll to hold [rad] (default: level)")
+    desired_pitch: float = parameter(0.0, number, "pitch to hold [rad] (default: level)")
+    waypoints: tuple[tuple[float, ...], ...] = parameter(
+        (), waypoint_rows, "later set points: rows [t, x, y, z, roll, pitch, yaw], each held from its time t [s] on")
+
+    def __post_init__(self) -> None:
+        for name in ("bandwidth", "eta", "boundary_layer", "uncertainty"):
+            object.__setattr__(self, name, expand(getattr(self, name), self.axes, name))
 
     def b_limits(self) -> tuple[tuple[float, float], ...]:
+        """The paper axes' bounds (surge, sway, yaw)."""
         return (self.b_surge, self.b_sway, self.b_yaw)
 
+    def b_bounds(self, axis: str) -> tuple[float, float] | None:
+        """``[b_min, b_max]`` of an axis, or ``None``: ``b_hat`` from the controller's model."""
+        return getattr(self, f"b_{axis}")
 
-# ------------------------------------------------------------------------------------------ the models
+    def targets(self) -> np.ndarray:
+        """The (K, 7) set-point table of :func:`uvms.control.kernels.targets_table`."""
+        from uvms.control.kernels import targets_table
 
-
-def effective_inertia(inertia: np.ndarray) -> np.ndarray:
-    """Per axis (surge, sway, yaw), ``1 / (I^-1)_jj`` of a 6x6 inertia mapping a body wrench to ``nu_dot``:
-    the mass or inertia a force on that axis meets when every other axis is free [kg, kg, kg m^2]."""
-    inverse = np.linalg.inv(inertia)
-    return np.array([1.0 / inverse[j, j] for j in WRENCH_INDEX])
+        return targets_table(self.desired_position, (self.desired_roll, self.desired_pitch, self.desired_yaw),
+                             self.waypoints)
 
 
 # ------------------------------------------------------------------------------------------ the controller
 
 
-class SlidingModeController:
-    """Surge, sway and yaw sliding-mode station keeping; subclasses implement :meth:`predict`.
+def state_vector(state) -> np.ndarray:
+    """``[p | quat | nu | q | qd]`` of a :class:`~uvms.state.State` (the layout of :mod:`uvms.sim.integrate`)."""
+    return np.concatenate([state.position, state.quaternion, state.nu, state.q, state.qd]).astype(float)
 
-    Logged signals per axis ``a`` in (surge, sway, yaw): ``s_a``, ``k_a``, ``f_hat_a``, ``command_a``, ``e_a``
-    (and ``b_hat_a`` with ``b_source = "model"``), plus ``Phi``.
+
+class CompiledController:
+    """The Python face of a compiled controller: ``update(measurement)`` runs :func:`uvms.control.kernels.controller_update`
+    on the controller's own :class:`~uvms.control.kernels.ControllerData` (built by :meth:`compiled`)."""
+
+    PYTHON_UPDATES = 256
+    """``n_updates`` of the data used by the Python :meth:`update` (tables grow as needed)."""
+
+    _data = None
+
+    def compiled(self, n_updates: int):
+        """A fresh :class:`~uvms.control.kernels.ControllerData` (memory reset) for ``n_updates`` updates."""
+        raise NotImplementedError
+
+    @property
+    def signal_names(self) -> tuple[str, ...]:
+        """Names of :attr:`ControllerData.signals`, the logged values of an update."""
+        raise NotImplementedError
+
+    def reset(self) -> None:
+        """Forget the memory (captured set point, integrators, IMU): the next update starts afresh."""
+        self._data = None
+
+    def _before_update(self, data):
+        return data
+
+    def update(self, measurement: Measurement) -> ControlOutput:
+        from uvms.control.kernels import controller_update
+
+        if self._data is None:
+            self._data = self.compiled(self.PYTHON_UPDATES)
+            self._names = self.signal_names
+            self._wrench = np.zeros(6)
+        data = self._data = self._before_update(self._data)
+        nu_dot = (np.asarray(measurement.nu_dot, dtype=float) if data.needs_acceleration else data.zero6)
+        controller_update(data, float(measurement.time), state_vector(measurement.state),
+                          np.asarray(measurement.joint_torques, dtype=float), nu_dot, self._wrench)
+        return ControlOutput(wrench=self._wrench.copy(), signals=dict(zip(self._names, data.signals.tolist())))
+
+
+class SlidingModeController(CompiledController):
+    """Sliding-mode station keeping on the chosen axes (default: surge, sway, yaw); subclasses choose the model
+    that predicts ``f_hat`` (:meth:`model_options`).
+
+    Logged signals per controlled axis ``a``: ``s_a``, ``k_a``, ``f_hat_a``, ``command_a``, ``e_a`` (and
+    ``b_hat_a`` with ``b_source = "model"``), plus ``Phi``.
     """
 
     name = "smc"
@@ -233,22 +297,7 @@ class SlidingModeController:
         self._parameters = parameters or self.Parameters()
         self.period = float(period)
         self.plant = model
-        self._position_desired: np.ndarray | None = None
-        self._yaw_desired = 0.0
-        par = self.parameters
-        # per-update buffers of the compiled law (sliding_kernels), allocated once
-        self._R, self._kin = kernels.kinematics_buffers()
-        self._f_hat = np.zeros(3)
-        self._wrench = np.zeros(6)
-        self._signals = np.zeros((3, kernels.N_SIGNAL_COLUMNS))
-        self._uncertainty = np.array(par.uncertainty, dtype=float)
-        limits = np.array(par.b_limits())
-        self._b_fixed = np.sqrt(limits[:, 0] * limits[:, 1])         # b_hat = sqrt(b_min b_max), Eq. 28
-        self._beta_fixed = np.sqrt(limits[:, 1] / limits[:, 0])      # beta = sqrt(b_max / b_min), Eq. 29
-        self._beta_model = np.full(3, par.b_margin)
-        columns = kernels.N_SIGNAL_COLUMNS if par.b_source == "model" else kernels.B_HAT
-        self._signal_columns = columns
-        self._signal_names = [name for names in SIGNAL_NAMES for name in names[:columns]]
+        self.axes = self.parameters.axes
 
     @property
     def parameters(self) -> SlidingModeParameters:
@@ -256,37 +305,44 @@ class SlidingModeController:
         build a new controller to change them)."""
         return self._parameters
 
-    def reset(self) -> None:
-        """Forget the captured desired pose (taken again at the next update unless given)."""
-        self._position_desired = None
+    @property
+    def signal_names(self) -> tuple[str, ...]:
+        columns = ("s", "k", "f_hat", "command", "e") + (("b_hat",) if self.parameters.b_source == "model" else ())
+        return tuple(f"{c}_{a}" for a in self.axes for c in columns) + ("Phi",)
 
-    def predict(self, measurement: Measurement, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The controller model's ``nu_dot`` (6,) at ``f_0 = 0`` and the 6x6 inertia that maps a body
-        wrench to ``nu_dot`` in that model (for ``b_source = "model"``); ``rotation`` is the measured
-        body-to-world ``R``."""
+    def model_options(self, n_updates: int) -> dict:
+        """The :class:`~uvms.control.kernels.ControllerData` fields of the controller's model (``predictor``,
+        ``system``, ``vehicle``, ``current``, ``fluid_acceleration``, ...)."""
         raise NotImplementedError
 
-    def _desired(self, state) -> tuple[np.ndarray, float]:
-        if self._position_desired is None:
-            par = self.parameters
-            self._position_desired = (np.array(par.desired_position, dtype=float) if par.desired_position is not None
-                                      else np.array(state.position, dtype=float))
-            self._yaw_desired = par.desired_yaw if par.desired_yaw is not None else float(state.euler[2])
-        return self._position_desired, self._yaw_desired
+    def gain_table(self) -> np.ndarray:
+        """(6, N_GAINS) per axis slot: lambda, eta, Phi, F, and from ``[b_min, b_max]``
+        ``b_hat = sqrt(b_min b_max)`` (Eq. 28), ``beta = sqrt(b_max / b_min)`` (Eq. 29); axes without bounds
+        take ``b_hat`` from the controller's model (column ``B_MODEL``)."""
+        from uvms.control import kernels as ck
 
-    def update(self, measurement: Measurement) -> ControlOutput:
         par = self.parameters
-        st = measurement.state
-        position_d, yaw_d = self._desired(st)
-        kernels.axis_kinematics_into(st.quaternion, st.position, st.nu, position_d, yaw_d, self._R, self._kin)
-        nu_dot_hat, inertia = self.predict(measurement, self._R)
-        if par.b_source == "model":
-            b_hat, beta = effective_inertia(inertia), self._beta_model
-        else:
-            b_hat, beta = self._b_fixed, self._beta_fixed
-        kernels.sliding_mode_wrench(self._kin, nu_dot_hat, par.surface == "body_velocity", par.bandwidth, par.eta,
-                                    par.boundary_layer, self._uncertainty, b_hat, beta, self._f_hat, self._wrench,
-                                    self._signals)
-        signals = dict(zip(self._signal_names, self._signals[:, :self._signal_columns].ravel().tolist()))
-        signals["Phi"] = par.boundary_layer
-        return ControlOutput(wrench=self._wrench.copy(), signals=signals)
+        gains = np.zeros((6, ck.N_GAINS))
+        for j, (axis, slot) in enumerate(zip(par.axes, slots(par.axes))):
+            gains[slot, ck.BANDWIDTH] = par.bandwidth[j]
+            gains[slot, ck.ETA] = par.eta[j]
+            gains[slot, ck.PHI] = par.boundary_layer[j]
+            gains[slot, ck.UNCERTAINTY] = par.uncertainty[j]
+            b = par.b_bounds(axis)
+            if b is None:
+                gains[slot, ck.B_MODEL] = 1.0
+            else:
+                gains[slot, ck.B_HAT] = math.sqrt(b[0] * b[1])
+                gains[slot, ck.BETA] = math.sqrt(b[1] / b[0])
+        return gains
+
+    def compiled(self, n_updates: int):
+        from uvms.control import kernels as ck
+
+        par = self.parameters
+        return ck.controller_data(kind=ck.SLIDING, n_joints=self.plant.n_joints, period=self.period,
+                                  axes=slots(self.axes), gains=self.gain_table(), targets=par.targets(),
+                                  n_signals=len(self.signal_names),
+                                  body_velocity=par.surface == "body_velocity", b_from_model=par.b_source == "model",
+                                  beta_model=float(par.b_margin), log_b_hat=par.b_source == "model",
+                                  **self.model_options(n_updates))

@@ -11,11 +11,12 @@ equations. At each update, with the vehicle acceleration ``a_0`` from a simulate
                                                               the wrench the arm exerts on the vehicle
     nu_dot_hat = ABA(vehicle alone; f_0 = w_arm)              the vehicle-only model's f_hat with the reaction
 
-``RNEA_0`` is the base wrench of the recursive Newton-Euler algorithm (:func:`uvms.dynamics.rnea.rnea`) on
+``RNEA_0`` is the base wrench of the recursive Newton-Euler algorithm (:func:`uvms.dynamics.plant.inverse_into`) on
 a base moving with the measured velocity and acceleration; their difference is the force transmitted through
 joint 1. (Algebraically ``nu_dot_hat = a_0 - (I^H_0)^-1 RNEA_0(system; a_0, qdd)``: acceleration feedback.)
 With a perfect, noise-free acceleration this performs like ``smc-ab``; noise, bias or delay in ``a_0`` enter
-``f_hat`` directly, amplified by the arm-to-vehicle mass ratio.
+``f_hat`` directly, amplified by the arm-to-vehicle mass ratio. The update is :func:`uvms.control.kernels.controller_update`
+(predictor ``NE``; :func:`uvms.control.kernels.arm_reaction`, the IMU :func:`uvms.control.imu.imu_measure`).
 """
 
 from __future__ import annotations
@@ -24,14 +25,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uvms.control.base import Measurement
-from uvms.control.imu import ImuParameters, SimulatedImu
+from uvms.control.imu import ImuParameters, SimulatedImu, imu_data
 from uvms.control.registry import choice, non_negative, non_negative_integer, parameter, register, vector
 from uvms.control.smc import SlidingModeController, SlidingModeParameters
 from uvms.control.smc_vehicle import VehicleModel
-from uvms.dynamics.crba import crba
-from uvms.dynamics.kernel_model import make_workspace
-from uvms.dynamics.rnea import rnea
+from uvms.dynamics.plant import model_data
 
 
 @dataclass(frozen=True)
@@ -69,48 +67,32 @@ class NewtonEulerSMC(SlidingModeController):
         self.vehicle = VehicleModel(model, scale)
         self.system = model.with_hydrodynamics_scaled(added_mass=scale, drag=scale)
         self.imu = SimulatedImu(self.parameters.imu(), period=self.period)
-        n = self.system.n_joints
-        self._ws = make_workspace(self.system.n_bodies)
-        self._ws_vehicle = make_workspace(1)
-        self._M = np.zeros((6 + n, 6 + n))
-        self._zero6 = np.zeros(6)
-        self._zero_n = np.zeros(n)
-        self._empty = np.zeros(0)
-        self._current = np.array(self.system.current, dtype=float)
-        self._fluid_acceleration = np.array(self.system.fluid_acceleration, dtype=float)
-        self._f_system = np.zeros(6)
-        self._f_vehicle = np.zeros(6)
-        self._tau = np.zeros(n)
-        self.last_acceleration = np.zeros(6)
+
+    @property
+    def signal_names(self) -> tuple[str, ...]:
+        return super().signal_names + tuple(f"imu_{a}" for a in self.axes)
 
     def reset(self) -> None:
         super().reset()
         self.imu.reset()
 
-    def arm_reaction(self, rotation, nu, q, qd, tau, a0) -> np.ndarray:
-        """The wrench (6,) the arm exerts on the vehicle when the base moves with ``nu``, ``a0`` (body axes)."""
-        km = self.system.kernel
-        vc, af = self._current, self._fluid_acceleration
-        rnea(km, self._ws, rotation, nu, q, qd, a0, self._zero_n, self._zero6, vc, af, self._f_system, self._tau)
-        crba(km, self._ws, q, self._M)
-        qdd = np.linalg.solve(self._M[6:, 6:], tau - self._tau) if q.size else self._empty
-        rnea(km, self._ws, rotation, nu, q, qd, a0, qdd, self._zero6, vc, af, self._f_system, self._tau)
-        rnea(self.vehicle.model.kernel, self._ws_vehicle, rotation, nu, self._empty, self._empty, a0, self._empty,
-             self._zero6, vc, af, self._f_vehicle, self._empty)
-        return self._f_vehicle - self._f_system
+    def model_options(self, n_updates: int) -> dict:
+        from uvms.control.kernels import NE
 
-    def predict(self, measurement: Measurement, rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The vehicle-only ``nu_dot`` at ``f_0 = 0`` with the arm's reaction at the measured acceleration."""
-        st = measurement.state
-        a0 = self.imu.measure(measurement)
-        self.last_acceleration = a0
-        nu = np.array(st.nu)
-        w_arm = self.arm_reaction(rotation, nu, np.array(st.q), np.array(st.qd),
-                                  np.array(measurement.joint_torques, dtype=float), a0)
-        return self.vehicle.nu_dot(rotation, nu, w_arm), self.vehicle.inertia
+        imu = self.parameters.imu()
+        return dict(predictor=NE, needs_acceleration=imu.mode == "acceleration", system=model_data(self.system),
+                    vehicle=model_data(self.vehicle.model), current=np.array(self.system.current, dtype=float),
+                    fluid_acceleration=np.array(self.system.fluid_acceleration, dtype=float),
+                    imu=imu_data(imu, self.period, n_updates))
 
-    def update(self, measurement: Measurement):
-        out = super().update(measurement)
-        for axis, j in (("surge", 3), ("sway", 4), ("yaw", 2)):
-            out.signals[f"imu_{axis}"] = float(self.last_acceleration[j])
-        return out
+    def _before_update(self, data):
+        """The Python path shares :attr:`imu` (its noise table grows on demand, the same seeded sequence)."""
+        if data.imu is not self.imu.data:
+            data = data._replace(imu=self.imu.data)
+        self.imu.ensure_noise(int(self.imu.data.count[0]) + 1)
+        return data._replace(imu=self.imu.data) if data.imu is not self.imu.data else data
+
+    @property
+    def last_acceleration(self) -> np.ndarray:
+        """The IMU's last measurement (6,)."""
+        return self.imu.data.out.copy()

@@ -11,84 +11,42 @@ positive semi-definite. :func:`uvms.model.load.format_validation_error` turns a 
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import (
     AfterValidator,
-    BaseModel,
     BeforeValidator,
-    ConfigDict,
     Discriminator,
-    Field,
-    Strict,
     Tag,
     ValidationInfo,
     field_validator,
     model_validator,
 )
-from pydantic_core import PydanticCustomError
 
-from uvms.errors import show  # noqa: F401  (one renderer of user values; re-exported)
+from uvms.schema_base import (  # noqa: F401  (the kit's names, re-exported for model code)
+    ZERO3,
+    Mat3,
+    Mat6,
+    Name,
+    NonNegative,
+    NonNegativeVec3,
+    Number,
+    Positive,
+    Spec,
+    Vec3,
+    Vec6,
+    fail,
+    is_number,
+    numbers,
+    show,
+)
 from uvms.spatial import inertia_about_com
 
 RELATIVE_TOLERANCE = 1e-9
 """Relative tolerance of the symmetry, semi-definiteness and triangle checks (the paper's links sit exactly
 on the triangle-inequality boundary: diag(0, 0.0016, 0.0016) about the CoM)."""
 
-
-def fail(message: str, subpath: str = "") -> PydanticCustomError:
-    """A validation error with a complete message; ``subpath`` (e.g. ``"diagonal"``) extends the field path."""
-    return PydanticCustomError("uvms", "{message}", {"message": message, "subpath": subpath})
-
-
-def _is_number(x: Any) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
-
-
-def _vector(n: int, *, minimum: float | None = None) -> BeforeValidator:
-    """Accept a list of ``n`` finite numbers (each ``>= minimum`` if given) as a tuple of floats."""
-    what = f"a list of {n} " + ("finite numbers" if minimum is None else f"finite numbers >= {minimum:g}")
-
-    def check(value: Any) -> tuple[float, ...]:
-        if (isinstance(value, (list, tuple)) and len(value) == n and all(_is_number(x) for x in value)
-                and (minimum is None or all(x >= minimum for x in value))):
-            return tuple(float(x) for x in value)
-        raise fail(f"expected {what}, found {show(value)}")
-
-    return BeforeValidator(check)
-
-
-def _matrix(n: int) -> BeforeValidator:
-    """Accept an ``n`` x ``n`` nested list of finite numbers as a tuple of row tuples."""
-
-    def check(value: Any) -> tuple[tuple[float, ...], ...]:
-        if isinstance(value, (list, tuple)) and len(value) == n and all(
-                isinstance(row, (list, tuple)) and len(row) == n and all(_is_number(x) for x in row) for row in value):
-            return tuple(tuple(float(x) for x in row) for row in value)
-        raise fail(f"expected a {n}x{n} matrix (a list of {n} rows of {n} finite numbers), found {show(value)}")
-
-    return BeforeValidator(check)
-
-
-Number = Annotated[float, Strict()]
-Positive = Annotated[float, Strict(), Field(gt=0)]
-NonNegative = Annotated[float, Strict(), Field(ge=0)]
-Vec3 = Annotated[tuple[float, float, float], _vector(3)]
-NonNegativeVec3 = Annotated[tuple[float, float, float], _vector(3, minimum=0.0)]
-Vec6 = Annotated[tuple[float, float, float, float, float, float], _vector(6)]
-Mat3 = Annotated[tuple[tuple[float, ...], ...], _matrix(3)]
-Mat6 = Annotated[tuple[tuple[float, ...], ...], _matrix(6)]
-Name = Annotated[str, Strict(), Field(min_length=1)]
-
-ZERO3 = (0.0, 0.0, 0.0)
-
-
-class Spec(BaseModel):
-    """Base of every schema model: frozen, unknown keys rejected, no NaN or infinity."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class EnvironmentSpec(Spec):
@@ -253,10 +211,10 @@ class VehicleDragSpec(Spec):
 
 def _six_or_matrix(value: Any) -> Any:
     """6 values (a diagonal) or a 6x6 matrix, as a 6x6 tuple of rows."""
-    if isinstance(value, (list, tuple)) and len(value) == 6 and all(_is_number(x) for x in value):
+    if isinstance(value, (list, tuple)) and len(value) == 6 and all(is_number(x) for x in value):
         return tuple(tuple(float(value[i]) if i == j else 0.0 for j in range(6)) for i in range(6))
     if isinstance(value, (list, tuple)) and len(value) == 6 and all(
-            isinstance(row, (list, tuple)) and len(row) == 6 and all(_is_number(x) for x in row) for row in value):
+            isinstance(row, (list, tuple)) and len(row) == 6 and all(is_number(x) for x in row) for row in value):
         return tuple(tuple(float(x) for x in row) for row in value)
     raise fail(f"expected 6 finite numbers (a diagonal) or a 6x6 matrix, found {show(value)}")
 
@@ -320,7 +278,7 @@ class FossenDampingSpec(Spec):
                 np.array(self.quadratic) if self.quadratic is not None else zero)
 
 
-PositiveVec3 = Annotated[tuple[float, float, float], _vector(3, minimum=0.0)]
+PositiveVec3 = Annotated[tuple[float, float, float], numbers(3, minimum=0.0)]
 
 
 class _ShapeSpec(Spec):
@@ -441,9 +399,8 @@ def _buoyancy_and_added_mass_given(body):
     """A DH model's body states its buoyancy and added mass, or carries shapes that give them."""
     for key in ("buoyancy", "added_mass"):
         if getattr(body, key) is None and not body.shapes:
-            raise PydanticCustomError("uvms", "{message}", {
-                "message": "expected a value (required field, unless the body has 'shapes' that give it), found none",
-                "subpath": key})
+            raise fail("expected a value (required field, unless the body has 'shapes' that give it), found none",
+                       key)
     return body
 
 

@@ -26,7 +26,7 @@ import os
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -331,7 +331,7 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
         hydro = extras.links.get(name)
         if hydro is not None:
             hydro.density = extras.density
-            _merge_hydro(body, hydro, name, R, p, b, root, source, extras.source, links[name])
+            _merge_hydro(body, hydro, _Placement(name, R, p, b, root, links[name]), (source, extras.source))
         pending = []
         for joint in children[name]:
             axis = _check_joint(joint, source, extras.fixed_joints)
@@ -344,8 +344,8 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
         stack.extend(reversed(pending))
     if extras.vehicle_hydro is not None:
         extras.vehicle_hydro.density = extras.density
-        _merge_hydro(bodies[0], extras.vehicle_hydro, root, np.eye(3), np.zeros(3), 0, root, source, extras.source,
-                     links[root])
+        _merge_hydro(bodies[0], extras.vehicle_hydro, _Placement(root, np.eye(3), np.zeros(3), 0, root, links[root]),
+                     (source, extras.source))
     return _assemble(bodies, axes, frames, extras, robot.name, source)
 
 
@@ -376,9 +376,21 @@ def collision_shapes(link, drag_coefficient: float, source: str | None = None) -
     return out
 
 
-def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.ndarray, b: int, root: str,
-                 source: str, extras_source: str | None, urdf_link=None) -> None:
-    """Add a link's hydrodynamics (link frame) to the body that carries it (pose ``(R, p)`` in the body).
+class _Placement(NamedTuple):
+    """Where a URDF link sits: its name, its pose ``(R, p)`` in the moving body ``b`` that carries it, the root
+    link's name, and the yourdfpy link (for its collision primitives)."""
+
+    link: str
+    R: np.ndarray
+    p: np.ndarray
+    b: int
+    root: str
+    urdf_link: Any
+
+
+def _merge_hydro(body: _Body, hydro: LinkHydro, place: _Placement, sources: tuple[str, str | None]) -> None:
+    """Add a link's hydrodynamics (link frame) to the body that carries it (``place``: its pose in the body);
+    ``sources`` = (the URDF file, the additions file) for messages.
 
     Shapes (and ``from_collision`` primitives of ``urdf_link``) add their volume at their centre and their
     added mass unless the link gives those explicitly, and their drag table rows to the body's.
@@ -388,6 +400,8 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, link: str, R: np.ndarray, p: np.
     from uvms.hydro.shapes import added_mass as shape_added_mass
     from uvms.hydro.shapes import buoyancy as shape_buoyancy
 
+    link, R, p, b, root, urdf_link = place
+    source, extras_source = sources
     shapes = list(hydro.shapes)
     if hydro.from_collision is not None and urdf_link is not None:
         shapes += collision_shapes(urdf_link, hydro.from_collision, source)

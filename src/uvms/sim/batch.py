@@ -102,6 +102,34 @@ def _trial_plan(model, trial: Trial, shared: tuple, timing: Timing) -> RunPlan:
     return plan
 
 
+def run_plans(plans: Sequence[RunPlan], *, threads: int, progress: Callable[[int, int], None] | None = None
+              ) -> tuple[Result, ...]:
+    """Run prepared plans (each wholly compilable: :func:`uvms.sim.compiled_loop.compilable`) in a pool of
+    ``threads`` threads; the compiled loops release the GIL, so the threads run in parallel. Each result is
+    what :func:`uvms.simulate` gives for the same plan."""
+    from uvms.sim.compiled_loop import CompiledLog, advance_loop, compiled_run
+    from uvms.sim.loop import Outcome
+    from uvms.sim.record import result_of
+
+    runs = [compiled_run(plan) for plan in plans]
+    finished = [0]
+
+    def one(k: int):
+        tic = _time.perf_counter()
+        done, code = advance_loop(runs[k].loop, 0, plans[k].timing.n_total)
+        return Outcome(done, code), _time.perf_counter() - tic
+
+    outcomes = []
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        for outcome in pool.map(one, range(len(plans))):
+            outcomes.append(outcome)
+            finished[0] += 1
+            if progress is not None:
+                progress(finished[0], len(plans))
+    return tuple(result_of(plan, outcome, CompiledLog(run.log, run.signal_names), _time.perf_counter() - seconds)
+                 for plan, run, (outcome, seconds) in zip(plans, runs, outcomes))
+
+
 def rollout(model, trials: Sequence[Trial | State], *, duration: float, step: float = 1e-3, controller=None,
             actuation=None, inputs: Inputs | None = None, **options) -> "Batch":
     """Run every trial (a :class:`Trial`, or just an initial :class:`~uvms.state.State`) for ``duration``
@@ -115,9 +143,7 @@ def rollout(model, trials: Sequence[Trial | State], *, duration: float, step: fl
     """
     import os
 
-    from uvms.sim.compiled_loop import advance_loop, compilable, compiled_run, CompiledLog
-    from uvms.sim.loop import Outcome
-    from uvms.sim.record import result_of
+    from uvms.sim.compiled_loop import compilable
 
     wall0 = _time.perf_counter()
     checks.model(model)
@@ -134,22 +160,6 @@ def rollout(model, trials: Sequence[Trial | State], *, duration: float, step: fl
         if not compilable(plan):
             raise checks.fail(f"trials[{k}]", "expected bundled controllers and arm inputs (compiled); run a Python "
                                               "controller or arm with uvms.simulate")
-    runs = [compiled_run(plan) for plan in plans]
-    finished = [0]
-
-    def one(k: int):
-        tic = _time.perf_counter()
-        done, code = advance_loop(runs[k].loop, 0, timing.n_total)
-        return Outcome(done, code), _time.perf_counter() - tic
-
-    outcomes = []
-    with ThreadPoolExecutor(max_workers=threads) as pool:
-        for outcome in pool.map(one, range(len(plans))):
-            outcomes.append(outcome)
-            finished[0] += 1
-            if progress is not None:
-                progress(finished[0], len(plans))
-    results = tuple(result_of(plan, outcome, CompiledLog(run.log, run.signal_names), _time.perf_counter() - seconds)
-                    for plan, run, (outcome, seconds) in zip(plans, runs, outcomes))
+    results = run_plans(plans, threads=threads, progress=progress)
     return Batch(results, {"threads": threads, "trajectories": len(plans),
                            "wall_time_s": _time.perf_counter() - wall0})

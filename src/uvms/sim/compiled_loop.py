@@ -23,7 +23,7 @@ from numba import njit, types
 from numba.experimental import structref
 
 from uvms.control.arm import arm_torques
-from uvms.control.compiled import controller_update
+from uvms.control.kernels import controller_update
 from uvms.sim.integrate import rk4, state_derivative
 from uvms.thrusters.command import allocate_command
 
@@ -207,7 +207,7 @@ class CompiledRun(NamedTuple):
 def compiled_run(plan) -> CompiledRun:
     """Build the compiled controller, arm and allocation of ``plan`` (:func:`compilable` must hold)."""
     from uvms.control.arm import constant_arm, schedule_arm
-    from uvms.control.compiled import no_controller
+    from uvms.control.kernels import no_controller
     from uvms.sim.inputs import TorqueSchedule
     from uvms.sim.loop import COMMAND_NAMES
     from uvms.thrusters.command import thrust_command, thrust_command_names

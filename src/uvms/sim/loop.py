@@ -138,11 +138,13 @@ class PythonController:
     allocated to the actuators and logged with the command and allocation signals."""
 
     def __init__(self, plan) -> None:
-        from uvms.sim.allocation import Commands
+        from uvms.thrusters.command import thrust_command, thrust_command_names
 
         self.plan = plan
         self.controller = plan.controller
-        self.commands = Commands(plan.thrusters)
+        self.allocation = thrust_command(plan.thrusters)
+        self.allocation_names = thrust_command_names(plan.thrusters)
+        self.allocation_signals = np.zeros(len(self.allocation_names))
         self.xdot = np.zeros(plan.x.size)
         if hasattr(self.controller, "reset"):
             self.controller.reset()
@@ -163,11 +165,12 @@ class PythonController:
             time=t, state=state, joint_torques=plan.held.joint_torques.copy(), nu_dot_source=self.true_nu_dot(t)))
         wrench = checks.returned_vector(getattr(out, "wrench", None), 6, "controller.update().wrench",
                                         " [moment; force]", t)
-        command, alloc_signals = self.commands(wrench)
-        plan.held.command[:] = command
+        from uvms.thrusters.command import allocate_command
+
+        allocate_command(self.allocation, wrench, plan.held.command, self.allocation_signals)
         signals = dict(out.signals)
         signals.update(zip(COMMAND_NAMES, wrench.tolist()))
-        signals.update(alloc_signals)
+        signals.update(zip(self.allocation_names, self.allocation_signals.tolist()))
         return signals
 
 

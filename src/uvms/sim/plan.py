@@ -200,6 +200,9 @@ class RunPlan:
         control_every = 0
         if controller is not None:
             control_every = timing.steps_of(getattr(controller, "period", None) or inputs.control_period or 0.01)
+        from uvms._cache import announce_compile
+
+        announce_compile()                       # a cold kernel cache: the CLI says so once, before compiling
         record = samples(timing.n_total // every + 2, x.size, every)
         record.states[0] = x                     # the initial state is the first row, at t = 0
         record.count[0] = 1

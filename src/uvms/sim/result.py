@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -17,6 +17,18 @@ from uvms.output import atomic_write_text  # noqa: F401  (re-exported: result fi
 from uvms.rotations import euler_from_rotations, rotations_from_quaternions
 from uvms.errors import UvmsInputError, show
 from uvms.sim.integrate import layout
+
+
+class AxisErrors(NamedTuple):
+    """Per sample, the surge, sway and yaw errors and rates of :meth:`Result.axis_errors` (each (K, 3))."""
+
+    error: np.ndarray
+    error_rate: np.ndarray
+    velocity: np.ndarray
+
+    def rates(self, surface: str = "body_velocity") -> np.ndarray:
+        """The ``vel`` of ``s = vel + lambda e`` (Eq. 24): ``velocity`` (``"body_velocity"``) or ``error_rate``."""
+        return self.velocity if surface == "body_velocity" else self.error_rate
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,6 +104,28 @@ class Result:
         ref = self.position[0] if position_ref is None else np.asarray(position_ref, dtype=float)
         return np.einsum("kji,kj->ki", self.rotations(), self.position - ref).reshape(-1, 3)
 
+    def axis_errors(self, position_desired=None, yaw_desired: float | None = None) -> AxisErrors:
+        """Surge, sway and yaw errors of every sample from a held pose (default: the initial one), with their
+        rates, vectorised over the samples (the quantities of the sliding-mode laws, Eqs. 24-29, as
+        :func:`uvms.control.sliding_kernels.axis_kinematics_into` computes them for one state).
+
+        ``error`` (K, 3): ``e_x, e_y`` of ``e = R^T (p - p_d)`` [m] and ``wrap(psi - psi_d)`` to (-pi, pi]
+        [rad]; ``error_rate`` (K, 3): ``(e_dot_x, e_dot_y, psi_dot)`` with ``e_dot = v - omega x e`` and Eq. 1's
+        ``psi_dot = (sin(phi) q + cos(phi) r) / cos(theta)``; ``velocity`` (K, 3): ``(u, v, r)``."""
+        R = self.rotations()
+        p_d = self.position[0] if position_desired is None else np.asarray(position_desired, dtype=float)
+        e = np.einsum("kji,kj->ki", R, self.position - p_d).reshape(-1, 3)
+        euler = euler_from_rotations(R)
+        psi_d = (euler[0, 2] if len(euler) else 0.0) if yaw_desired is None else float(yaw_desired)
+        yaw_error = -((-(euler[:, 2] - psi_d) + np.pi) % (2.0 * np.pi) - np.pi)
+        nu = self.nu
+        e_dot = nu[:, 3:] - np.cross(nu[:, :3], e)
+        phi, theta = euler[:, 0], euler[:, 1]
+        psi_dot = (np.sin(phi) * nu[:, 1] + np.cos(phi) * nu[:, 2]) / np.cos(theta)
+        return AxisErrors(error=np.column_stack([e[:, 0], e[:, 1], yaw_error]),
+                          error_rate=np.column_stack([e_dot[:, 0], e_dot[:, 1], psi_dot]),
+                          velocity=np.column_stack([nu[:, 3], nu[:, 4], nu[:, 2]]))
+
     def columns(self) -> dict[str, np.ndarray]:
         """Every labelled series as ``name -> (K,)`` (units in the names)."""
         cols: dict[str, np.ndarray] = {"t_s": self.time}
@@ -124,27 +158,42 @@ class Result:
         return pd.DataFrame(self.columns())
 
     def summary(self) -> dict[str, Any]:
-        """Peaks and final state (JSON-ready)."""
-        err = self.body_frame_error()
-        e = self.euler
+        """Peaks, final state and run health (JSON-ready); the numbers are :mod:`uvms.sim.metrics`' named
+        metrics and :func:`uvms.sim.health.run_health`."""
+        from uvms.sim.metrics import Series
+
+        K = len(self.time)
+        series = Series(self)
+        e = series.euler()
+
+        def peaks(names: tuple[str, ...]) -> list[float]:
+            return [series.metric(n) for n in names] if K else []
+
         summ: dict[str, Any] = {
             "complete": self.complete,
             "message": self.message,
-            "duration_s": float(self.time[-1] - self.time[0]) if len(self.time) else 0.0,
-            "peak_abs_position_m": np.abs(self.position - self.position[0]).max(axis=0).tolist() if len(err) else [],
-            "peak_abs_euler_rad": np.abs(e - e[0]).max(axis=0).tolist() if len(e) else [],
-            "peak_body_error_xy_m": float(np.hypot(err[:, 0], err[:, 1]).max()) if len(err) else 0.0,
+            "duration_s": float(self.time[-1] - self.time[0]) if K else 0.0,
+            "peak_abs_position_m": peaks(("peak_abs_x_m", "peak_abs_y_m", "peak_abs_z_m")),
+            "peak_abs_euler_rad": peaks(("peak_abs_roll_rad", "peak_abs_pitch_rad", "peak_abs_yaw_rad")),
+            "peak_body_error_xy_m": series.metric("peak_body_error_xy_m") if K else 0.0,
             "final": {
-                "time_s": float(self.time[-1]) if len(self.time) else 0.0,
-                "position_m": self.position[-1].tolist() if len(self.time) else [],
-                "euler_rad": e[-1].tolist() if len(e) else [],
-                "q_rad": self.q[-1].tolist() if len(self.time) else [],
-                "end_effector_m": self.end_effector[-1].tolist() if len(self.time) else [],
+                "time_s": float(self.time[-1]) if K else 0.0,
+                "position_m": self.position[-1].tolist() if K else [],
+                "euler_rad": e[-1].tolist() if K else [],
+                "q_rad": self.q[-1].tolist() if K else [],
+                "end_effector_m": self.end_effector[-1].tolist() if K else [],
             },
-            "peak_abs_signal": {k: float(np.nanmax(np.abs(v))) for k, v in self.signals.items() if len(v)},
+            "peak_abs_signal": {k: series.metric(f"max_abs_{k}") for k, v in self.signals.items() if len(v)},
+            "health": series.health().as_dict() if K else None,
             "metadata": self.metadata,
         }
         return summ
+
+    def health(self, **options):
+        """:func:`uvms.sim.health.run_health` of this run (``options``: ``limits``, ``thrusters``)."""
+        from uvms.sim.health import run_health
+
+        return run_health(self, **options)
 
     def save(self, directory, *, name: str = "result") -> Path:
         """Write ``<name>.csv`` and ``<name>.json`` (summary) into ``directory``, each atomically."""
@@ -274,7 +323,7 @@ def _json_default(obj):
 PLOTTED_COLUMNS = ("t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "ee_x_m", "ee_y_m")
 """Columns every saved run's table has (what ``uvms plot`` needs at the least)."""
 
-_SUMMARY_TYPES = {"complete": bool, "message": str, "metadata": dict}
+_SUMMARY_TYPES = {"complete": bool, "message": str, "metadata": dict, "health": dict}
 _METADATA_TYPES = {"scenario": str, "vehicle": str, "controller": str}
 
 

@@ -12,6 +12,7 @@ from typing import Callable
 
 from uvms import checks
 from uvms.dynamics.plant import DEFAULT_BOUNDS  # noqa: F401  (re-exported)
+from uvms.sim.compiled_loop import compilable, run_compiled
 from uvms.sim.loop import run_python
 from uvms.sim.options import Actuation, Inputs, Recording, grouped  # noqa: F401  (Actuation re-exported)
 from uvms.sim.plan import MAX_STEPS, RunPlan, Timing, check_steps, events  # noqa: F401  (re-exported)
@@ -70,5 +71,6 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     integrator, recording = options.pop("integrator", "rk4"), options.pop("recording", None)
     plan = RunPlan.build(model, initial_state, timing, (controller, actuation),
                          grouped(inputs, integrator, recording, options))
-    outcome, log = run_python(plan, _Chunking(FIRST_CHUNK_STEPS, _next_chunk))
+    loop = run_compiled if compilable(plan) else run_python
+    outcome, log = loop(plan, _Chunking(FIRST_CHUNK_STEPS, _next_chunk))
     return result_of(plan, outcome, log, wall0)

@@ -8,17 +8,16 @@ angles, controller name). ``docs/scenarios.md`` documents every field; the bundl
     scenario = load_scenario("paper_case2_released")     # or a path
     result = run_scenario(scenario)                       # -> uvms.sim.result.Result
 
-Numbers may be written ``1e-3``: PyYAML reads that (YAML 1.1) as a string, so numeric strings are accepted.
+Field types and strictness come from :mod:`uvms.schema_base` (the kit shared with model and sweep files): a
+number is a YAML number (the loader reads ``1e-3`` as one); a quoted ``"1e-3"`` is a string and is refused.
 """
 
 from __future__ import annotations
 
 import hashlib
-import math
 import os
-import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib.resources import files
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -26,9 +25,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import (
     AfterValidator,
-    BaseModel,
     BeforeValidator,
-    ConfigDict,
     Discriminator,
     Field,
     Tag,
@@ -36,14 +33,29 @@ from pydantic import (
     field_validator,
     model_validator,
 )
-from pydantic_core import PydanticCustomError
 
 from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
-from uvms.model.load import bundled_models, load_model, validation_input_error
+from uvms.model.load import bundled_models, load_model
 from uvms.safe_yaml import read_yaml_mapping
 from uvms.model.model import Model
-from uvms.model.schema import fail, show
+from uvms.schema_base import (
+    ZERO3,
+    ZERO6,
+    NonNegative,
+    Positive,
+    RunName,
+    Spec,
+    Vec3,
+    Vec6,
+    Vector,
+    fail,
+    finite_number,
+    sanitised_name,
+    show,
+    validation_input_error,
+)
+from uvms.sim.health import HealthLimits, actuation_metadata
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
 from uvms.sim.result import Result
 from uvms.state import State
@@ -53,72 +65,12 @@ _SCENARIOS = files("uvms") / "scenarios"
 INTEGRATORS = ("rk4", "DOP853", "LSODA", "Radau", "RK45")
 """``rk4``: compiled fixed-step RK4; the others: ``scipy.integrate.solve_ivp`` methods."""
 
-# ---------------------------------------------------------------------------------------------- field types
-
-
-def _as_number(value: Any) -> float | None:
-    """A finite float from a number or a numeric string (``1e-3``), else ``None``."""
-    if isinstance(value, bool):
-        return None
-    if isinstance(value, str) and re.fullmatch(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*", value):
-        value = float(value)
-    if isinstance(value, (int, float)) and math.isfinite(value):
-        return float(value)
-    return None
-
-
-def _number(value: Any) -> float:
-    number = _as_number(value)
-    if number is None:
-        raise fail(f"expected a finite number, found {show(value)}")
-    return number
-
-
-def _numbers(size: int | None = None) -> BeforeValidator:
-    """Accept a list of finite numbers (exactly ``size`` of them if given) as a tuple of floats."""
-    what = "a list of " + (f"{size} finite numbers" if size else "finite numbers")
-
-    def check(value: Any) -> tuple[float, ...]:
-        if isinstance(value, (list, tuple)) and (len(value) == size if size else len(value) > 0):
-            numbers = [_as_number(x) for x in value]
-            if all(x is not None for x in numbers):
-                return tuple(float(x) for x in numbers if x is not None)
-        raise fail(f"expected {what}, found {show(value)}")
-
-    return BeforeValidator(check)
-
-
-Number = Annotated[float, BeforeValidator(_number)]
-Positive = Annotated[float, BeforeValidator(_number), Field(gt=0)]
-NonNegative = Annotated[float, BeforeValidator(_number), Field(ge=0)]
-Vec3 = Annotated[tuple[float, float, float], _numbers(3)]
-Vec6 = Annotated[tuple[float, float, float, float, float, float], _numbers(6)]
-Vector = Annotated[tuple[float, ...], _numbers()]
-
-
-def _run_name(value: Any) -> str:
-    if isinstance(value, str) and re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._+-]{0,99}", value):
-        return value
-    raise fail("expected a name of up to 100 letters, digits and . _ + - (it names the run directory), "
-               f"found {show(value)}")
-
-
-RunName = Annotated[str, BeforeValidator(_run_name)]
-ZERO3 = (0.0, 0.0, 0.0)
-ZERO6 = ZERO3 + ZERO3
-
 _UNION_TAGS = ("list", "mapping")
 """Tags of this schema's list-or-mapping unions; left out of the field paths of error messages."""
 
 
 def _list_or_mapping(value: Any) -> str:
     return "mapping" if isinstance(value, dict) else "list"
-
-
-class Spec(BaseModel):
-    """Base of every scenario schema model: frozen, unknown keys rejected."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 # ---------------------------------------------------------------------------------------------- schema
@@ -195,14 +147,9 @@ def _schedule_order(steps: tuple[TorqueStep, ...]) -> tuple[TorqueStep, ...]:
         raise fail(f"expected the first entry to start at 'from: 0', found from: {steps[0].start:g}")
     for k in range(1, len(steps)):
         if steps[k].start <= steps[k - 1].start:
-            raise _fail_at(k, f"expected 'from' times in increasing order, found {steps[k].start:g} after "
-                              f"{steps[k - 1].start:g}")
+            raise fail(f"expected 'from' times in increasing order, found {steps[k].start:g} after "
+                       f"{steps[k - 1].start:g}", k)
     return steps
-
-
-def _fail_at(index: int, message: str) -> PydanticCustomError:
-    """:func:`~uvms.model.schema.fail` for list item ``index`` (the field path gets ``[index]``)."""
-    return PydanticCustomError("uvms", "{message}", {"message": message, "subpath": index})
 
 
 def _joint_torques_form(value: Any) -> Any:
@@ -337,6 +284,15 @@ class OutputsSpec(Spec):
     record_period: Positive | None = None         # [s]; default: every step (at most 20 000 samples)
 
 
+class HealthSpec(Spec):
+    """When the run counts as unhealthy (:mod:`uvms.sim.health`): an attitude past ``attitude_limit``, or a
+    thruster saturated more than ``saturation_limit`` of the time."""
+
+    attitude_limit: Positive = HealthLimits.attitude_limit            # largest |roll| or |pitch| [rad] (60 deg)
+    saturation_limit: Annotated[float, BeforeValidator(finite_number), Field(ge=0, le=1)] = \
+        HealthLimits.saturation_limit                                   # fraction of the run [-]
+
+
 class ScenarioSpec(Spec):
     """A whole scenario file."""
 
@@ -354,6 +310,7 @@ class ScenarioSpec(Spec):
     controller: ControllerSpec | None = None
     actuators: str = "ideal"                      # thruster layout (uvms.thrusters.layouts)
     outputs: OutputsSpec = OutputsSpec()
+    health: HealthSpec = HealthSpec()
 
     @field_validator("actuators")
     @classmethod
@@ -433,6 +390,40 @@ class Scenario:
         c = self.spec.controller
         return None if c is None else _make_controller(c, self.model, self.source)
 
+    def with_model(self, model: Model) -> Scenario:
+        """The same scenario on another (already loaded) model: its initial state, current, controller and
+        ``actuators: model`` are built for ``model``."""
+        return replace(self, model=model)
+
+    def simulate_options(self) -> dict[str, Any]:
+        """The keyword arguments of :func:`uvms.sim.run.simulate` that run this scenario: the one translation
+        of a scenario file into a simulation (:func:`run_scenario`, ``uvms compare``, ``uvms reproduce``;
+        callers that change one input replace its entry, e.g. ``controller`` or ``actuation``, and then call
+        :func:`uvms.sim.health.actuation_metadata` for a new ``actuation``)."""
+        from uvms.sim.run import Actuation
+
+        spec = self.spec
+        inputs = spec.inputs
+        joint_torques = inputs.torque_schedule()
+        control_period = None                     # the vehicle controller runs at its own period
+        if inputs.joint_trajectory is not None:
+            joint_torques = inputs.joint_trajectory.tracker_for(self.model)
+            control_period = inputs.joint_trajectory.period
+        actuation = Actuation.named(spec.actuators, self.model)
+        metadata = {"scenario": self.name, "scenario_source": self.source, "scenario_sha256": self.sha256,
+                    "model_source": self.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
+                    "controller": spec.controller.name if spec.controller else None,
+                    "health_limits": {"attitude_limit": spec.health.attitude_limit,
+                                      "saturation_limit": spec.health.saturation_limit},
+                    **actuation_metadata(actuation)}
+        return dict(
+            model=self.model, initial_state=self.initial_state(), duration=spec.duration, step=spec.step,
+            integrator=spec.integrator, fixed_base=self.fixed_base, joint_torques=joint_torques,
+            body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=self.current(),
+            controller=self.make_controller(), actuation=actuation, control_period=control_period,
+            record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
+            metadata=metadata)
+
 
 def bundled_scenarios() -> list[str]:
     """Names of the scenarios shipped with uvms."""
@@ -469,10 +460,9 @@ def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | 
     try:
         spec = ScenarioSpec.model_validate(data)
     except ValidationError as exc:
-        raise validation_input_error(_WithoutTags(exc), source, schema=ScenarioSpec) from None  # type: ignore[arg-type]
+        raise validation_input_error(exc, source, schema=ScenarioSpec, union_tags=_UNION_TAGS) from None
     if spec.name is None:
-        name = re.sub(r"[^A-Za-z0-9._+-]", "_", default_name).lstrip("._+-") or "scenario"
-        spec = spec.model_copy(update={"name": name})
+        spec = spec.model_copy(update={"name": sanitised_name(default_name, "scenario")})
     if text is None:
         text = yaml.safe_dump(data, sort_keys=False)
     model = _resolve_model(spec, source, Path(base_dir) if base_dir is not None else Path.cwd())
@@ -483,42 +473,15 @@ def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | 
 
 
 def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None] | None = None) -> Result:
-    """Simulate a scenario. A diverging run returns a :class:`Result` with ``complete = False`` and the reason
-    in ``message`` (nothing is raised); ``progress(t, duration)`` is called after each integration segment."""
-    from uvms.sim.run import Actuation, simulate
+    """Simulate a scenario (:meth:`Scenario.simulate_options`). A diverging run returns a :class:`Result` with
+    ``complete = False`` and the reason in ``message`` (nothing is raised); ``progress(t, duration)`` is called
+    after each integration segment. The result's summary carries its run health (:mod:`uvms.sim.health`)."""
+    from uvms.sim.run import simulate
 
-    spec = scenario.spec
-    inputs = spec.inputs
-    metadata = {"scenario": scenario.name, "scenario_source": scenario.source, "scenario_sha256": scenario.sha256,
-                "model_source": scenario.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
-                "controller": spec.controller.name if spec.controller else None}
-    joint_torques = inputs.torque_schedule()
-    control_period = None                         # the vehicle controller runs at its own period
-    if inputs.joint_trajectory is not None:
-        joint_torques = inputs.joint_trajectory.tracker_for(scenario.model)
-        control_period = inputs.joint_trajectory.period
-    return simulate(
-        scenario.model, scenario.initial_state(), duration=spec.duration, step=spec.step,
-        integrator=spec.integrator, fixed_base=scenario.fixed_base, joint_torques=joint_torques,
-        body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=scenario.current(),
-        controller=scenario.make_controller(), actuation=Actuation.named(spec.actuators, scenario.model),
-        control_period=control_period, record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
-        progress=progress, metadata=metadata)
+    return simulate(**scenario.simulate_options(), progress=progress)
 
 
 # ---------------------------------------------------------------------------------------------- helpers
-
-
-class _WithoutTags:
-    """A ``ValidationError`` look-alike whose error locations leave out this schema's union tags; unknown keys
-    come first (a typo'd key also makes its intended field "missing": the typo is the one to report)."""
-
-    def __init__(self, exc: ValidationError) -> None:
-        errors = [{**e, "loc": tuple(p for p in e["loc"] if p not in _UNION_TAGS)} for e in exc.errors()]
-        self._errors = sorted(errors, key=lambda e: e["type"] != "extra_forbidden")
-
-    def errors(self) -> list[dict[str, Any]]:
-        return self._errors
 
 
 def _resolve_model(spec: ScenarioSpec, source: str | None, base_dir: Path) -> Model:

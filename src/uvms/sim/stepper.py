@@ -101,7 +101,7 @@ class Simulator:
         if joint_torques is not None:
             if not self._own_torques:
                 raise checks.fail("joint_torques", "the simulator has its own arm input (inputs.joint_torques)")
-            self._run.control.arm.torques[:] = checks.vector(joint_torques, self.model.n_joints, "joint_torques",
+            self._run.control.arm.constant[:] = checks.vector(joint_torques, self.model.n_joints, "joint_torques",
                                                              " (one per joint)")
         if body_wrench is not None:
             plan.held.body_wrench[:] = checks.vector(body_wrench, 6, "body_wrench", " [moment; force]")

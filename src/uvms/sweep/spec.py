@@ -31,9 +31,7 @@ from typing import Annotated, Any, ClassVar
 import numpy as np
 from pydantic import (
     AfterValidator,
-    BaseModel,
     BeforeValidator,
-    ConfigDict,
     Field,
     PlainValidator,
     Strict,
@@ -41,14 +39,13 @@ from pydantic import (
     field_validator,
     model_validator,
 )
-from pydantic_core import PydanticCustomError
 
 from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
-from uvms.model.load import read_yaml, validation_input_error
+from uvms.model.load import read_yaml
 from uvms.safe_yaml import read_yaml_mapping
-from uvms.model.schema import fail, show
-from uvms.sim.scenario import RunName, Scenario, resolve_scenario_path, scenario_from_data
+from uvms.schema_base import RunName, Spec, Vector, fail, numbers, sanitised_name, show, validation_input_error
+from uvms.sim.scenario import Scenario, resolve_scenario_path, scenario_from_data
 
 _SWEEPS = files("uvms") / "sweeps"
 
@@ -68,50 +65,10 @@ _PATH = re.compile(rf"{_SEGMENT}(?:\.{_SEGMENT})*")
 # ---------------------------------------------------------------------------------------------- distributions
 
 
-def _number(value: Any) -> float:
-    """A finite float from a number or a numeric string (``1e-3``: YAML 1.1 reads it as a string)."""
-    if isinstance(value, str):
-        try:
-            value = float(value)
-        except ValueError:
-            pass
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise fail(f"expected a finite number, found {show(value)}")
-    return float(value)
-
-
-def _is_finite_number(value: Any) -> bool:
-    try:
-        _number(value)
-    except PydanticCustomError:
-        return False
-    return True
-
-
-def _numbers(size: int | None = None, what: str = "") -> BeforeValidator:
-    """A non-empty list of finite numbers (exactly ``size`` if given) as a tuple of floats."""
-    expected = what or ("a list of " + (f"{size} finite numbers" if size else "finite numbers"))
-
-    def check(value: Any) -> tuple[float, ...]:
-        if isinstance(value, (list, tuple)) and (len(value) == size if size else len(value) > 0):
-            numbers = [x for x in value if _is_finite_number(x)]
-            if len(numbers) == len(value):
-                return tuple(float(x) for x in numbers)
-        raise fail(f"expected {expected}, found {show(value)}")
-
-    return BeforeValidator(check)
-
-
 def _values(value: Any) -> tuple[Any, ...]:
     if isinstance(value, (list, tuple)) and len(value) > 0:
         return tuple(value)
     raise fail(f"expected a non-empty list of values, found {show(value)}")
-
-
-class Spec(BaseModel):
-    """Base of every sweep schema model: frozen, unknown keys rejected."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class Distribution(Spec):
@@ -130,7 +87,7 @@ class Distribution(Spec):
 class Uniform(Distribution):
     """``{uniform: [low, high]}``: uniform on ``[low, high]``."""
 
-    uniform: Annotated[tuple[float, float], _numbers(2, "[low, high]")]
+    uniform: Annotated[tuple[float, float], numbers(2, what="[low, high]")]
     random: ClassVar[bool] = True
 
     @field_validator("uniform")
@@ -147,7 +104,7 @@ class Uniform(Distribution):
 class Normal(Distribution):
     """``{normal: [mean, std]}``: Gaussian."""
 
-    normal: Annotated[tuple[float, float], _numbers(2, "[mean, std]")]
+    normal: Annotated[tuple[float, float], numbers(2, what="[mean, std]")]
     random: ClassVar[bool] = True
 
     @field_validator("normal")
@@ -172,8 +129,8 @@ class Choice(Distribution):
 
 
 class VectorBounds(Spec):
-    low: Annotated[tuple[float, ...], _numbers()]
-    high: Annotated[tuple[float, ...], _numbers()]
+    low: Vector
+    high: Vector
 
 
 class UniformVector(Distribution):
@@ -235,7 +192,7 @@ def _distribution(value: Any) -> Distribution:
     try:
         return FORMS[next(iter(value))].model_validate(value)
     except ValidationError as exc:
-        error = validation_input_error(exc, None)
+        error = validation_input_error(exc, None, schema=FORMS[next(iter(value))])
         raise fail(error.message, "" if error.path == "(top level)" else (error.path or "")) from None
 
 
@@ -469,11 +426,9 @@ def sweep_from_data(data: Any, *, source: str | None = None, base_dir: str | os.
     try:
         spec = SweepSpec.model_validate(data)
     except ValidationError as exc:
-        errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")  # a typo'd key first
-        raise validation_input_error(_Errors(errors), source, schema=SweepSpec) from None  # type: ignore[arg-type]
+        raise validation_input_error(exc, source, schema=SweepSpec) from None
     if spec.name is None:
-        name = re.sub(r"[^A-Za-z0-9._+-]", "_", default_name).lstrip("._+-") or "sweep"
-        spec = spec.model_copy(update={"name": name})
+        spec = spec.model_copy(update={"name": sanitised_name(default_name, "sweep")})
     _check_size(spec, source)
     if spec.runs > 1 and not any(d.random for d in spec.parameters.values()):
         raise UvmsInputError(f"expected runs: 1 when no parameter is random (all {spec.runs} draws would be the "
@@ -582,16 +537,6 @@ def _blame(path: str | None, keys: list[str]) -> str | None:
     matches = [k for k in keys if path == k or path.startswith((k + ".", k + "[")) or k.startswith((path + ".",
                                                                                                      path + "["))]
     return max(matches, key=len) if matches else None
-
-
-class _Errors:
-    """A ``ValidationError`` look-alike with reordered errors."""
-
-    def __init__(self, errors: list[dict[str, Any]]) -> None:
-        self._errors = errors
-
-    def errors(self) -> list[dict[str, Any]]:
-        return self._errors
 
 
 # ---------------------------------------------------------------------------------------------- dotted paths

@@ -123,8 +123,7 @@ def replay_figure(rp: Replay, *, start: int = 0):
     """The plotly figure of a replay (play/pause, time slider, trails, target)."""
     from uvms.view.plotly_html import animation_figure
 
-    return animation_figure(rp.scene, rp.snaps, rp.times, title=rp.title, fps=rp.fps, target=rp.target,
-                            vehicle_path=rp.vehicle_path, ee_path=rp.ee_path, start=start)
+    return animation_figure(rp, start=start)
 
 
 def write_replay_html(rp: Replay, path, *, start: int = 0) -> Path:

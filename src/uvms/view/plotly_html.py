@@ -199,16 +199,15 @@ def add_player(layout: dict, *, fps: float, times, names: list[str], start: int 
                                        mode="immediate")]) for t, name in zip(times, names)])]
 
 
-def animation_figure(scene: Scene, snaps: list[Snapshot], times: np.ndarray, *, title: str, fps: float,
-                     target: Snapshot | None = None, vehicle_path: np.ndarray | None = None,
-                     ee_path: np.ndarray | None = None, start: int = 0):
-    """A plotly figure replaying ``snaps`` (one per entry of ``times`` [s]) at ``fps`` frames per second of
-    wall time, with play/pause buttons, a time slider, trails of the vehicle and the end effector (up to the
-    current frame) and the station-keeping target (``target``: the vehicle frame drawn faintly)."""
+def animation_figure(replay, *, start: int = 0):
+    """A plotly figure of a :class:`uvms.view.animate.Replay`: its ``snaps`` (one per entry of ``times`` [s])
+    at ``fps`` frames per second of wall time, with play/pause buttons, a time slider, trails of the vehicle
+    and the end effector (``vehicle_path``, ``ee_path``, up to the current frame) and the station-keeping
+    target (``target``: the vehicle frame drawn faintly, or ``None``), from frame ``start``."""
     import plotly.graph_objects as go
 
-    vehicle_path = np.array([s.vehicle for s in snaps]) if vehicle_path is None else vehicle_path
-    ee_path = np.array([s.end_effector for s in snaps]) if ee_path is None else ee_path
+    scene, snaps, times, title, fps = replay.scene, replay.snaps, replay.times, replay.title, replay.fps
+    target, vehicle_path, ee_path = replay.target, replay.vehicle_path, replay.ee_path
     static = world_traces(scene)
     if target is not None:
         L = scene.triad_length

@@ -1,0 +1,241 @@
+"""Compiled thrust allocation and thrust -> command: what the simulation does with a controller's body wrench.
+
+:func:`allocate_command` turns a commanded body wrench ``[K M N X Y Z]`` into the held actuator commands of a
+thruster layout (paper Eq. 11, ``f0 = Lambda T``):
+
+1. the minimum-norm least-squares thrust ``pinv(Lambda) wrench`` (precomputed pseudo-inverse);
+2. only if that violates a thrust limit, the saturation-aware bounded least squares of
+   :func:`uvms.thrusters.allocation.allocate`, compiled (:func:`bounded_least_squares`): minimise
+   ``|Lambda T - wrench|`` within ``lower <= T <= upper`` and, among the minimisers, ``|T|``;
+3. per thruster, thrust -> command: Healey's steady-state voltage
+   (:func:`~uvms.thrusters.healey.healey_voltage_for_thrust`), a table thruster's inverse table
+   (:func:`~uvms.thrusters.table.table_command`), or the thrust itself (first-order and ideal thrusters).
+
+With no thrusters (ideal actuation) the command is the wrench itself. The logged signals are the thrusts and
+the part of the wrench not produced (``thrust_cmd_<name>``, ``unachieved_<K..Z>``; :func:`thrust_command_names`).
+
+Bounded least squares, compiled. A primal active-set method (Lawson and Hanson, Ch. 23) on the strictly convex
+``min 1/2 |Lambda T - w|^2 + 1/2 eps |T|^2`` (``eps = 1e-12 |Lambda|_F^2``) finds which thrusters sit at a
+limit; on that face the free thrusts are then recomputed exactly as the minimum-norm least-squares solution
+``T_F = pinv(Lambda_F) (w - Lambda_B T_B)`` (the ``eps -> 0`` limit), which is the lexicographic optimum
+(least residual, then least norm) whenever the face is the optimal one. The regularisation keeps every
+subproblem's solution unique, so the active set cannot cycle on layouts with redundant thrusters.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from uvms.thrusters.healey import healey_voltage_for_thrust
+from uvms.thrusters.table import table_command
+
+HEALEY, TABLE, THRUST = 0, 1, 2
+"""Per-thruster command kinds: a Healey voltage, a table command, the thrust itself."""
+LABELS = ("K", "M", "N", "X", "Y", "Z")
+
+
+class ThrustCommand(NamedTuple):
+    """A layout's compiled allocation data (numba type independent of the layout)."""
+
+    m: int                      # number of thrusters (0: ideal actuation)
+    Lambda: np.ndarray          # (6, m) allocation matrix (Eq. 11)
+    pinv: np.ndarray            # (m, 6) its pseudo-inverse
+    lower: np.ndarray           # (m,) thrust limits [N]
+    upper: np.ndarray           # (m,)
+    regularisation: float       # eps of the active-set search
+    kind: np.ndarray            # (m,) int64 HEALEY, TABLE or THRUST
+    params: np.ndarray          # (m, P) each thruster's kernel parameters (rows zero-padded)
+    coefficients: np.ndarray    # (m, 3) Healey steady-state coefficients (zeros for others)
+    thrust: np.ndarray          # (m,) scratch: the allocated thrusts
+    side: np.ndarray            # (m,) int64 scratch: -1 at lower, +1 at upper, 0 free
+
+
+def thrust_command(thrusters) -> ThrustCommand:
+    """The :class:`ThrustCommand` of a layout (a tuple of :class:`~uvms.thrusters.layouts.Thruster`; empty:
+    ideal actuation, the command is the wrench)."""
+    from uvms.thrusters.healey import steady_coefficients
+    from uvms.thrusters.layouts import layout_matrix, thrust_limits
+
+    thrusters = tuple(thrusters)
+    m = len(thrusters)
+    Lambda = np.ascontiguousarray(layout_matrix(thrusters), dtype=float).reshape(6, m)
+    pinv = np.ascontiguousarray(np.linalg.pinv(Lambda)) if m else np.zeros((0, 6))
+    lower, upper = thrust_limits(thrusters) if m else (np.zeros(0), np.zeros(0))
+    rows = [t.parameters.as_array() if t.model in ("healey", "table") else np.zeros(1) for t in thrusters]
+    params = np.zeros((m, max([r.size for r in rows], default=1)))
+    for j, r in enumerate(rows):
+        params[j, :r.size] = r
+    kind = np.array([HEALEY if t.model == "healey" else TABLE if t.model == "table" else THRUST
+                     for t in thrusters], dtype=np.int64)
+    coefficients = np.zeros((m, 3))
+    for j, t in enumerate(thrusters):
+        if t.model == "healey":
+            coefficients[j] = steady_coefficients(t.parameters)
+    eps = 1e-12 * max(float(np.sum(Lambda * Lambda)), 1e-300)
+    return ThrustCommand(m=m, Lambda=Lambda, pinv=pinv, lower=np.array(lower, dtype=float),
+                         upper=np.array(upper, dtype=float), regularisation=eps, kind=kind.reshape(m),
+                         params=params, coefficients=coefficients, thrust=np.zeros(m),
+                         side=np.zeros(m, dtype=np.int64))
+
+
+def thrust_command_names(thrusters) -> tuple[str, ...]:
+    """Names of :func:`allocate_command`'s signals: ``thrust_cmd_<name>`` per thruster, ``unachieved_<K..Z>``
+    (none without thrusters)."""
+    thrusters = tuple(thrusters)
+    if not thrusters:
+        return ()
+    return tuple(f"thrust_cmd_{t.name}" for t in thrusters) + tuple(f"unachieved_{a}" for a in LABELS)
+
+
+# --------------------------------------------------------------------------------- bounded least squares
+
+
+@njit(cache=True, nogil=True)
+def _face_solve(A, w, x, side, eps):
+    """The free thrusts (``side == 0``) minimising ``|A x - w|^2 + eps |x_F|^2`` with the others held
+    (``eps = 0``: the minimum-norm least-squares solution); returns them (k,) in free order."""
+    m = A.shape[1]
+    k = 0
+    for i in range(m):
+        if side[i] == 0:
+            k += 1
+    rows = 6 + k if eps > 0.0 else 6
+    M = np.zeros((rows, k))
+    rhs = np.zeros(rows)
+    for r in range(6):
+        value = w[r]
+        for i in range(m):
+            if side[i] != 0:
+                value -= A[r, i] * x[i]
+        rhs[r] = value
+    c = 0
+    for i in range(m):
+        if side[i] == 0:
+            for r in range(6):
+                M[r, c] = A[r, i]
+            if eps > 0.0:
+                M[6 + c, c] = np.sqrt(eps)
+            c += 1
+    if k == 0:
+        return np.zeros(0)
+    return np.linalg.lstsq(M, rhs, rcond=1e-10)[0]
+
+
+@njit(cache=True, nogil=True)
+def bounded_least_squares(A, w, lower, upper, eps, x, side):
+    """``x`` (m,): within ``[lower, upper]``, minimising ``|A x - w|`` and then ``|x|`` (module docstring).
+    ``x`` holds a starting guess on entry (clipped here); ``side`` (m,) is scratch (the final active set)."""
+    m = A.shape[1]
+    for i in range(m):
+        if x[i] <= lower[i]:
+            x[i] = lower[i]
+            side[i] = -1
+        elif x[i] >= upper[i]:
+            x[i] = upper[i]
+            side[i] = 1
+        else:
+            side[i] = 0
+    for _ in range(10 * m + 20):
+        z = _face_solve(A, w, x, side, eps)
+        alpha = 1.0
+        block = -1
+        block_side = 0
+        c = 0
+        for i in range(m):
+            if side[i] == 0:
+                d = z[c] - x[i]
+                if d < 0.0 and z[c] < lower[i]:
+                    a = (lower[i] - x[i]) / d
+                    if a < alpha:
+                        alpha, block, block_side = a, i, -1
+                elif d > 0.0 and z[c] > upper[i]:
+                    a = (upper[i] - x[i]) / d
+                    if a < alpha:
+                        alpha, block, block_side = a, i, 1
+                c += 1
+        c = 0
+        for i in range(m):
+            if side[i] == 0:
+                x[i] = x[i] + max(alpha, 0.0) * (z[c] - x[i])
+                c += 1
+        if block >= 0:
+            side[block] = block_side
+            x[block] = lower[block] if block_side < 0 else upper[block]
+            continue
+        # optimal on this face: release the bound whose multiplier has the wrong sign
+        worst, release = 0.0, -1
+        for i in range(m):
+            if side[i] != 0:
+                g = eps * x[i]
+                for r in range(6):
+                    residual = -w[r]
+                    for j in range(m):
+                        residual += A[r, j] * x[j]
+                    g += A[r, i] * residual
+                violation = -g if side[i] < 0 else g          # descent points into the box
+                if violation > worst:
+                    worst, release = violation, i
+        scale = 1e-13 * (1.0 + np.abs(w).max()) * (1.0 + np.abs(A).max())
+        if release < 0 or worst <= scale:
+            break
+        side[release] = 0
+    # exact (eps -> 0) free thrusts on the final face: minimum-norm least squares
+    z = _face_solve(A, w, x, side, 0.0)
+    c = 0
+    inside = True
+    for i in range(m):
+        if side[i] == 0:
+            tol = 1e-12 * (1.0 + max(abs(lower[i]), abs(upper[i])))
+            if z[c] < lower[i] - tol or z[c] > upper[i] + tol:
+                inside = False
+            c += 1
+    if inside:
+        c = 0
+        for i in range(m):
+            if side[i] == 0:
+                x[i] = min(max(z[c], lower[i]), upper[i])
+                c += 1
+
+
+# ----------------------------------------------------------------------------------------- the command
+
+
+@njit(cache=True, nogil=True)
+def allocate_command(alloc, wrench, command, signals):
+    """Held actuator commands ``command`` (max(m, 6),) for the body ``wrench`` (6,), and ``signals``
+    (m + 6,): the thrusts and the unachieved ``wrench - Lambda T`` (module docstring). Without thrusters
+    ``command[:6] = wrench`` and no signals."""
+    m = alloc.m
+    for j in range(command.shape[0]):
+        command[j] = 0.0
+    if m == 0:
+        for j in range(6):
+            command[j] = wrench[j]
+        return
+    T = alloc.thrust
+    violated = False
+    for h in range(m):
+        value = 0.0
+        for k in range(6):
+            value += alloc.pinv[h, k] * wrench[k]
+        T[h] = value
+        if value < alloc.lower[h] or value > alloc.upper[h]:
+            violated = True
+    if violated:
+        bounded_least_squares(alloc.Lambda, wrench, alloc.lower, alloc.upper, alloc.regularisation, T, alloc.side)
+    for k in range(6):
+        achieved = 0.0
+        for h in range(m):
+            achieved += alloc.Lambda[k, h] * T[h]
+        signals[m + k] = wrench[k] - achieved
+    for h in range(m):
+        signals[h] = T[h]
+        if alloc.kind[h] == HEALEY:
+            command[h] = healey_voltage_for_thrust(alloc.params[h], alloc.coefficients[h], T[h])
+        elif alloc.kind[h] == TABLE:
+            command[h] = table_command(alloc.params[h], T[h])
+        else:
+            command[h] = T[h]
