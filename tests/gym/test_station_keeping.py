@@ -172,3 +172,23 @@ def test_bad_options_are_one_clear_error():
         gymnasium.make(ENV_ID, arm="wave")
     with pytest.raises(TypeError, match="colour"):
         gymnasium.make(ENV_ID, colour="red")
+
+
+@pytest.mark.slow
+def test_default_step_agrees_with_a_five_times_finer_one():
+    """The default 5 ms RK4 step against 1 ms on the default model under random thrusts (docs/gym.md's step
+    study): RK4's fourth-order error stays far below what a station keeper resolves."""
+    finals = []
+    for step in (0.005, 0.001):
+        env = gymnasium.make(ENV_ID, step=step, current=0.2).unwrapped
+        env.reset(seed=3)
+        rng = np.random.default_rng(0)
+        for _ in range(100):
+            obs, _, terminated, _, _ = env.step(0.5 * rng.uniform(env.action_space.low, env.action_space.high))
+            assert not terminated
+        finals.append(obs)
+    coarse, fine = finals
+    assert np.linalg.norm(fine[0:3]) > 0.01                      # the vehicle did move
+    np.testing.assert_allclose(coarse[0:3], fine[0:3], atol=1e-5)            # position [m]
+    np.testing.assert_allclose(coarse[6:9], fine[6:9], atol=1e-5)            # attitude [rad]
+    np.testing.assert_allclose(coarse[23:], fine[23:], atol=1e-2)            # thrusts [N]

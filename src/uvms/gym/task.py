@@ -132,28 +132,15 @@ class StationKeepingConfig:
     threads: int | None = None
 
 
-def _rotation(quaternion: np.ndarray) -> np.ndarray:
-    """(N, 3, 3) body-to-world rotations of (N, 4) unit quaternions ``[w x y z]`` (Hamilton)."""
-    w, x, y, z = quaternion.T
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
-        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
-        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1)], axis=1)
-
-
 def rotation_vector_error(target: np.ndarray, quaternion: np.ndarray) -> np.ndarray:
     """(N, 3) rotation vectors [rad] of ``R_target^T R`` (the attitude error in body axes) for a target
-    quaternion (4,) and (N, 4) quaternions: ``conj(q_t) * q`` made positive-scalar, ``2 atan2(|v|, w) v/|v|``."""
-    tw, tv = target[0], -target[1:]
-    w, v = quaternion[:, 0], quaternion[:, 1:]
-    ew = tw * w - v @ tv
-    ev = tw * v + w[:, None] * tv + np.cross(tv, v)
-    sign = np.where(ew < 0.0, -1.0, 1.0)
-    ew, ev = ew * sign, ev * sign[:, None]
-    s = np.linalg.norm(ev, axis=1)
-    angle = 2.0 * np.arctan2(s, ew)
-    scale = np.where(s > 1e-12, angle / np.where(s > 1e-12, s, 1.0), 2.0 / np.maximum(ew, 1e-300))
-    return ev * scale[:, None]
+    quaternion (4,) and (N, 4) unit quaternions (:func:`uvms.gym.kernels.attitude_error`)."""
+    from uvms.gym.kernels import attitude_error
+
+    out = np.zeros((quaternion.shape[0], 3))
+    for k in range(quaternion.shape[0]):
+        attitude_error(np.asarray(target, dtype=float), np.ascontiguousarray(quaternion[k], dtype=float), out[k])
+    return out
 
 
 @dataclass(frozen=True)
@@ -245,6 +232,7 @@ class StationKeepingTask:
             self.low, self.high, self.scale = -limit, limit.copy(), limit.copy()
             self.n_thrust_states = 0
         self.obs_size = 15 + 2 * self.n_joints + self.n_thrust_states
+        self._R, self._quaternion = np.zeros((3, 3)), np.zeros(4)
 
     def spaces(self):
         """``(observation_space, action_space)`` of one environment (module docstring; float64 Boxes)."""
@@ -304,20 +292,15 @@ class StationKeepingTask:
         return out, effort
 
     def observe(self, x: np.ndarray) -> np.ndarray:
-        """(N, obs) observations of (N, size) state vectors (module docstring); non-finite entries (a diverged
-        state) read as 0, and entries are clipped to +-:data:`OBS_LIMIT`."""
-        n = self.n_joints
-        quaternion = x[:, 3:7] / np.linalg.norm(x[:, 3:7], axis=1, keepdims=True)
-        R = _rotation(quaternion)
-        e_world = x[:, 0:3] - self.target_position
-        e_body = np.einsum("kji,kj->ki", R, e_world)
-        attitude = rotation_vector_error(self.target_quaternion, quaternion)
-        parts = [e_world, e_body, attitude, x[:, 7:13 + 2 * n]]
-        if self.n_thrust_states:
-            a0 = 13 + 2 * n
-            parts.append(x[:, a0:a0 + self.n_thrust_states])
-        obs = np.concatenate(parts, axis=1)
-        return np.clip(np.nan_to_num(obs, nan=0.0, posinf=0.0, neginf=0.0), -OBS_LIMIT, OBS_LIMIT)
+        """(N, obs) observations of (N, size) state vectors (module docstring; compiled:
+        :func:`uvms.gym.kernels.observe_rows`); non-finite entries (a diverged state) read as 0, and entries
+        are clipped to +-:data:`OBS_LIMIT`."""
+        from uvms.gym.kernels import observe_rows
+
+        out = np.empty((x.shape[0], self.obs_size))
+        observe_rows(x, self.target_position, self.target_quaternion, self.n_joints, self.n_thrust_states,
+                     OBS_LIMIT, self._R, self._quaternion, out)
+        return out
 
     def evaluate(self, obs: np.ndarray, effort: np.ndarray, codes: np.ndarray, steps: np.ndarray):
         """``(reward, terminated, truncated)`` (N,) after a step, from the new observations, the effort of the
