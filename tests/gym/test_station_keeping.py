@@ -101,6 +101,24 @@ def test_attitude_error_is_scipys_relative_rotation_vector():
     np.testing.assert_allclose(rotation_vector_error(tq, q), expected, atol=1e-12)
 
 
+@pytest.mark.parametrize("arm", ["trajectory", "torque", "hold", "none"])
+def test_every_arm_mode_moves_the_arm_as_documented(arm):
+    """Trajectory and torque modes move the arm; hold keeps it near its pose; none lets it fall (gravity)."""
+    env = gymnasium.make_vec(ENV_ID, num_envs=2, arm=arm, threads=1, arm_period=0.2,
+                             arm_torque=(0.5, 0.5, 0.5, 0.005))    # the wrist roll is light
+    obs, _ = env.reset(seed=1)
+    pose = env.unwrapped.task.arm_pose
+    for _ in range(50):
+        obs, _, terminated, _, _ = env.step(np.zeros((2,) + env.single_action_space.shape))
+        assert not terminated.any()
+    moved = np.abs(obs[:, 15:19] - pose).max()
+    if arm == "hold":
+        assert moved < 0.05
+    else:
+        assert moved > 0.05
+    env.close()
+
+
 def test_truncation_at_the_episode_duration():
     env = gymnasium.make(ENV_ID, duration=0.1, dt=0.02, step=0.002).unwrapped
     env.reset(seed=0)

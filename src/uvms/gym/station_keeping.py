@@ -46,7 +46,10 @@ class StationKeepingEnv(gymnasium.Env):
 
     metadata = {"render_modes": []}
 
-    def __init__(self, **options) -> None:
+    def __init__(self, render_mode: str | None = None, **options) -> None:
+        if render_mode is not None:
+            raise ValueError(f"uvms/StationKeeping-v0 has no render modes, got render_mode={render_mode!r}")
+        self.render_mode = None
         self.task = StationKeepingTask(config_of(options))
         self.observation_space, self.action_space = self.task.spaces()
         self.episode: Episode | None = None

@@ -98,7 +98,9 @@ class StationKeepingConfig:
             tracked by computed torque :class:`~uvms.control.arm.ComputedTorqueArm` with the model's own
             Newton-Euler equations (moving base), gains ``arm_gains = (kp, kd)`` [1/s^2, 1/s], updated every
             :data:`ARM_TRACKER_PERIOD`), ``"torque"``
-            (joint torques drawn uniform in ``+-arm_torque`` every ``arm_period`` seconds, no tracking),
+            (joint torques drawn uniform in ``+-arm_torque`` [N m] (one amplitude or one per joint) every
+            ``arm_period`` seconds, no tracking: a light joint spins up, e.g. the Alpha 5's wrist roll passes
+            1000 rad/s within 0.2 s at 0.5 N m and the episode ends as diverged; give it a small amplitude),
             ``"hold"`` (the tracker holding ``arm_pose``) or ``"none"`` (no joint torques: the arm falls).
         arm_pose: the arm's start pose (n,) [rad] (default :data:`DEFAULT_ARM_POSES`).
         max_tilt: termination when the body z axis leans more than this from the vertical [rad] (tumbling).
@@ -123,7 +125,7 @@ class StationKeepingConfig:
     arm_pose: Any = None
     arm_amplitude: float = 0.5
     arm_period: float = 2.0
-    arm_torque: float = 0.5
+    arm_torque: Any = 0.5
     arm_gains: tuple = (100.0, 20.0)
     max_tilt: float = np.pi / 3
     max_distance: float = 5.0
@@ -181,8 +183,13 @@ class StationKeepingTask:
         self.max_steps = max(1, int(round(duration / self.dt)))
         if c.arm not in ARM_MODES:
             raise checks.fail("arm", f"expected one of {', '.join(ARM_MODES)}, got {checks.show(c.arm)}")
-        for name in ("initial_position", "initial_attitude", "current", "arm_amplitude", "arm_torque"):
+        for name in ("initial_position", "initial_attitude", "current", "arm_amplitude"):
             checks.number(getattr(c, name), name, nonnegative=True)
+        torque = np.broadcast_to(np.asarray(c.arm_torque, dtype=float), (n,)) if np.ndim(c.arm_torque) == 0 \
+            else checks.vector(c.arm_torque, n, "arm_torque", " [N m] (one, or one per joint)")
+        if not np.all(np.isfinite(torque)) or np.any(torque < 0):
+            raise checks.fail("arm_torque", f"expected non-negative amplitudes [N m], got {checks.show(c.arm_torque)}")
+        self.arm_torque = np.array(torque)
         for name in ("arm_period", "max_tilt", "max_distance"):
             checks.number(getattr(c, name), name, positive=True)
         self.target_position = checks.vector(c.target_position, 3, "target_position", " [m]")
@@ -264,7 +271,7 @@ class StationKeepingTask:
         elif c.arm == "torque" and n:
             from uvms.sim.inputs import TorqueSchedule
 
-            torques = TorqueSchedule(knots, rng.uniform(-c.arm_torque, c.arm_torque, (knots.size, n)))
+            torques = TorqueSchedule(knots, rng.uniform(-self.arm_torque, self.arm_torque, (knots.size, n)))
         elif c.arm == "hold" and n:
             torques = self._tracker(np.zeros(1), self.arm_pose[None, :])
         else:

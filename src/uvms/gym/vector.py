@@ -27,10 +27,13 @@ class StationKeepingVectorEnv(VectorEnv):
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
 
-    def __init__(self, num_envs: int = 1, **options) -> None:
+    def __init__(self, num_envs: int = 1, render_mode: str | None = None, **options) -> None:
         from uvms import checks
         from uvms.sim.batch_stepper import BatchSimulator, COMMAND
 
+        if render_mode is not None:
+            raise ValueError(f"uvms/StationKeeping-v0 has no render modes, got render_mode={render_mode!r}")
+        self.render_mode = None
         options.pop("max_episode_steps", None)          # episodes end at their own duration
         self.num_envs = checks.count(num_envs, "num_envs", minimum=1)
         self.task = task = StationKeepingTask(config_of(options))
