@@ -166,6 +166,8 @@ def test_vector_env_rows_are_the_single_envs():
     rows, rewards, truncations = np.array(rows), np.array(rewards), np.array(truncations)
     assert truncations[9].all() and not truncations[:9].any()       # 0.1 s of 10 ms steps
     np.testing.assert_array_equal(rewards[10], 0.0)                   # the autoreset step
+    again, _ = venv.reset(seed=[10, 11, 12])
+    np.testing.assert_array_equal(again, rows[0])
     single = gymnasium.make(ENV_ID, duration=0.1).unwrapped
     for k in range(n):
         o, _ = single.reset(seed=10 + k)

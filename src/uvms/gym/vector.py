@@ -59,7 +59,7 @@ class StationKeepingVectorEnv(VectorEnv):
     def reset(self, *, seed: int | list[int | None] | None = None, options: dict | None = None):
         """Reset every environment: ``seed`` an int (environment ``k`` gets ``seed + k``), a list of
         ``num_envs`` seeds, or ``None``. Returns ``(obs (N, obs), infos)``."""
-        super().reset(seed=seed)
+        super().reset(seed=int(seed) if isinstance(seed, (int, np.integer)) else None)
         if seed is None:
             seeds = [None] * self.num_envs
         elif isinstance(seed, (int, np.integer)):
