@@ -33,8 +33,9 @@ def _run(env, seed: int, steps: int, action_seed: int = 0):
     return np.array(observations), np.array(rewards)
 
 
-@pytest.mark.parametrize("options", [{}, {"model": "paper", "action": "wrench", "arm": "torque"}],
-                         ids=["bluerov2-thrusters", "paper-wrench"])
+@pytest.mark.parametrize("options", [{}, {"model": "paper", "action": "wrench", "arm": "torque"},
+                                     {"model": "paper", "action": "commands"}],
+                         ids=["bluerov2-thrusters", "paper-wrench", "paper-commands"])
 def test_gymnasium_env_checker_passes(options):
     from gymnasium.utils.env_checker import check_env
 
@@ -212,3 +213,20 @@ def test_default_step_agrees_with_a_five_times_finer_one():
     np.testing.assert_allclose(coarse[0:3], fine[0:3], atol=1e-5)            # position [m]
     np.testing.assert_allclose(coarse[6:9], fine[6:9], atol=1e-5)            # attitude [rad]
     np.testing.assert_allclose(coarse[23:], fine[23:], atol=1e-2)            # thrusts [N]
+
+
+def test_commands_mode_spans_the_thrust_limits():
+    """The T200's commands: the action box is the PWM range giving the datasheet's thrust limits (1100-1900 us
+    at 16 V) and the command of zero thrust (1500 us, the dead band's centre) drifts as zero thrust does."""
+    env = gymnasium.make(ENV_ID, action="commands", **SHORT).unwrapped
+    np.testing.assert_allclose(env.action_space.low, 1100.0)
+    np.testing.assert_allclose(env.action_space.high, 1900.0)
+    np.testing.assert_allclose(env.task.offset, 1500.0, atol=5.0)
+    thrust = gymnasium.make(ENV_ID, action="thrusters", **SHORT).unwrapped
+    env.reset(seed=2)
+    thrust.reset(seed=2)
+    for _ in range(10):
+        a, ra, *_ = env.step(env.task.offset)
+        b, rb, *_ = thrust.step(np.zeros(8))
+    np.testing.assert_array_equal(a, b)
+    assert ra == rb

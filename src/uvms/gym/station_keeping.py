@@ -35,8 +35,9 @@ class StationKeepingEnv(gymnasium.Env):
 
     Observation: ``Box(-inf, inf, (15 + 2 n + m,), float64)``: position error [m] in world and body axes,
     attitude error rotation vector [rad], body angular [rad/s] and linear [m/s] velocity, joint angles [rad]
-    and rates [rad/s], and (``action="thrusters"``) the ``m`` thrusters' thrusts [N].
-    Action: ``"thrusters"``: ``Box(T_min, T_max, (m,), float64)`` thrust set points [N];
+    and rates [rad/s], and (thruster modes) the ``m`` thrusters' thrusts [N].
+    Action: ``"thrusters"``: ``Box(T_min, T_max, (m,), float64)`` thrust set points [N]; ``"commands"``: the
+    thrusters' own commands (e.g. PWM [us]) between the commands of the thrust limits;
     ``"wrench"``: ``Box(-limit, limit, (6,), float64)`` body wrench ``[K M N X Y Z]`` [N m, N]. Actions outside
     the box are clipped.
 

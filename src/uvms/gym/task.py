@@ -6,7 +6,7 @@ Everything is in SI units; state vectors are laid out as :mod:`uvms.sim.integrat
 (``[p(3) world | quaternion(4, wxyz, body to world) | nu(6) = [omega; v] body | q(n) | qd(n) | actuator]``,
 docs/conventions.md). Rotations: ``R(quaternion)`` maps body to world axes (Hamilton product).
 
-Observation (float64, ``9 + 6 + 2 n + m`` entries; ``m`` thrust states only in the ``"thrusters"`` action mode):
+Observation (float64, ``9 + 6 + 2 n + m`` entries; ``m`` thrust states only in the thruster action modes):
 
 ==============  =====  ============================================================  =========
 entries          size  meaning                                                      unit
@@ -27,7 +27,8 @@ Reward per step (weights :class:`Weights`)::
 
     r = -( w_p |p - p_target|^2 + w_a |attitude|^2 + w_v |nu|^2 + w_e mean(u^2) )
 
-with ``u`` the action scaled to [-1, 1] by its bounds (the effort); on termination the reward is further
+with ``u`` the action scaled to [-1, 1] by its bounds (the effort; ``"commands"``: measured from the command of
+zero thrust); on termination the reward is further
 decreased by ``termination_penalty`` for each step left in the episode (default: the position and attitude
 cost at the termination limits, so ending an episode early never pays).
 """
@@ -55,6 +56,7 @@ DEFAULT_WRENCH_LIMIT = np.array([20.0, 20.0, 20.0, 100.0, 100.0, 100.0])
 """Action bound ``[K M N X Y Z]`` [N m, N] of the ``"wrench"`` mode for a model without thrusters."""
 
 ARM_MODES = ("trajectory", "torque", "hold", "none")
+ACTION_MODES = ("thrusters", "commands", "wrench")
 
 ARM_TRACKER_PERIOD = 0.01
 """Update period [s] of the arm's computed-torque tracker (its torques are held in between)."""
@@ -79,8 +81,11 @@ class StationKeepingConfig:
         model: a :class:`~uvms.model.Model`, or a bundled model name or file (default :data:`DEFAULT_MODEL`).
         action: ``"thrusters"`` (one thrust set point per thruster [N], between each thruster's reverse and
             forward limit; converted to the thruster's command by the inverse of its curve or table, then its
-            own lag applies) or ``"wrench"`` (the body wrench ``[K M N X Y Z]`` [N m, N], body axes, applied
-            directly: ideal actuation). Default: ``"thrusters"`` when the model has thrusters.
+            own lag applies), ``"commands"`` (the thrusters' own commands in their units, e.g. the T200's PWM
+            pulse width [us] or a Healey thruster's voltage [V], between the commands of the thrust limits;
+            zero effort at the command of zero thrust) or ``"wrench"`` (the body wrench ``[K M N X Y Z]``
+            [N m, N], body axes, applied directly: ideal actuation). Default: ``"thrusters"`` when the model
+            has thrusters.
         wrench_limit: ``"wrench"`` mode bounds (6,) [N m, N] (default: for a model with thrusters, per axis
             ``sum_i |Lambda[a, i]| max(|T_min,i|, |T_max,i|)``, :data:`DEFAULT_WRENCH_LIMIT` on the axes they
             cannot drive; for a model without thrusters :data:`DEFAULT_WRENCH_LIMIT`).
@@ -169,9 +174,9 @@ class StationKeepingTask:
         self.n_joints = n
         thrusters = tuple(model.thrusters or ())
         action = c.action or ("thrusters" if thrusters else "wrench")
-        if action not in ("thrusters", "wrench"):
-            raise checks.fail("action", f"expected 'thrusters' or 'wrench', got {checks.show(action)}")
-        if action == "thrusters" and not thrusters:
+        if action not in ACTION_MODES:
+            raise checks.fail("action", f"expected one of {', '.join(ACTION_MODES)}, got {checks.show(action)}")
+        if action != "wrench" and not thrusters:
             raise checks.fail("action", "the model has no thrusters: use action='wrench'")
         self.action = action
         self.dt = checks.number(c.dt, "dt", positive=True, unit="s")
@@ -216,14 +221,20 @@ class StationKeepingTask:
         from uvms.thrusters.layouts import layout_matrix, thrust_limits
 
         c = self.config
-        if self.action == "thrusters":
-            self.actuation = actuation_class(thrusters)
-            self.low, self.high = (np.asarray(a, dtype=float) for a in thrust_limits(thrusters))
-            self.scale = np.maximum(np.abs(self.low), np.abs(self.high))
+        self.offset = 0.0
+        if self.action in ("thrusters", "commands"):
             from uvms.thrusters.command import thrust_command
 
+            self.actuation = actuation_class(thrusters)
             self.thrust_data = thrust_command(thrusters)
             self.n_thrust_states = len(thrusters)
+            self.low, self.high = (np.asarray(a, dtype=float) for a in thrust_limits(thrusters))
+            if self.action == "commands":            # the commands of the thrust limits and of zero thrust
+                bounds = np.stack([self.low, self.high, np.zeros_like(self.low)])
+                commands = np.empty_like(bounds)
+                thrust_to_command(self.thrust_data, bounds, commands)
+                self.low, self.high, self.offset = commands
+            self.scale = np.maximum(np.abs(self.low - self.offset), np.abs(self.high - self.offset))
         else:
             self.actuation = actuation_class()
             if c.wrench_limit is not None:
@@ -289,13 +300,14 @@ class StationKeepingTask:
 
     def commands(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(commands (N, c), effort (N,))`` of (N, a) actions clipped to their bounds: thrust set points
-        turned into thruster commands, or the body wrench itself."""
+        turned into thruster commands, or the commands or the body wrench themselves."""
         a = np.clip(actions, self.low, self.high)
-        effort = np.mean((a / self.scale) ** 2, axis=1)
-        if self.action == "wrench":
-            return np.ascontiguousarray(a), effort
-        out = np.empty_like(a)
-        thrust_to_command(self.thrust_data, a, out)
+        effort = np.mean(((a - self.offset) / self.scale) ** 2, axis=1)
+        out = np.zeros((a.shape[0], max(a.shape[1], 6)))    # the simulator holds max(m, 6) commands
+        if self.action == "thrusters":
+            thrust_to_command(self.thrust_data, a, out[:, :a.shape[1]])
+        else:
+            out[:, :a.shape[1]] = a
         return out, effort
 
     def observe(self, x: np.ndarray) -> np.ndarray:
