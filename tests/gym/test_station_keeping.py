@@ -191,6 +191,12 @@ def test_bad_options_are_one_clear_error():
         gymnasium.make(ENV_ID, dt=0.015, step=0.01)
     with pytest.raises(UvmsInputError, match="arm"):
         gymnasium.make(ENV_ID, arm="wave")
+    with pytest.raises(UvmsInputError, match="weights.effort"):
+        gymnasium.make(ENV_ID, weights=uvms.gym.Weights(effort=-1.0))
+    with pytest.raises(UvmsInputError, match="arm_torque"):
+        gymnasium.make(ENV_ID, arm_torque=[1.0, 2.0])
+    with pytest.raises(UvmsInputError, match="max_tilt"):
+        gymnasium.make(ENV_ID, max_tilt=0.0)
     with pytest.raises(TypeError, match="colour"):
         gymnasium.make(ENV_ID, colour="red")
 

@@ -170,8 +170,7 @@ class StationKeepingTask:
 
         self.config = c = config
         model = c.model if isinstance(c.model, Model) else load_model(c.model)
-        self.model, n = model, model.n_joints
-        self.n_joints = n
+        self.model, self.n_joints = model, model.n_joints
         thrusters = tuple(model.thrusters or ())
         action = c.action or ("thrusters" if thrusters else "wrench")
         if action not in ACTION_MODES:
@@ -179,6 +178,12 @@ class StationKeepingTask:
         if action != "wrench" and not thrusters:
             raise checks.fail("action", "the model has no thrusters: use action='wrench'")
         self.action = action
+        self._setup_timing(c)
+        self._setup_arm(c)
+        self._setup_reward(c)
+        self._setup_action(thrusters, Actuation)
+
+    def _setup_timing(self, c: StationKeepingConfig) -> None:
         self.dt = checks.number(c.dt, "dt", positive=True, unit="s")
         self.h = checks.number(c.step, "step", positive=True, unit="s")
         self.substeps = int(round(self.dt / self.h))
@@ -186,34 +191,47 @@ class StationKeepingTask:
             raise checks.fail("dt", f"expected a whole number of integration steps of {self.h:g} s, got {c.dt!r}")
         duration = checks.number(c.duration, "duration", positive=True, unit="s")
         self.max_steps = max(1, int(round(duration / self.dt)))
-        if c.arm not in ARM_MODES:
-            raise checks.fail("arm", f"expected one of {', '.join(ARM_MODES)}, got {checks.show(c.arm)}")
-        for name in ("initial_position", "initial_attitude", "current", "arm_amplitude"):
+        for name in ("initial_position", "initial_attitude", "current"):
             checks.number(getattr(c, name), name, nonnegative=True)
-        torque = np.broadcast_to(np.asarray(c.arm_torque, dtype=float), (n,)) if np.ndim(c.arm_torque) == 0 \
-            else checks.vector(c.arm_torque, n, "arm_torque", " [N m] (one, or one per joint)")
-        if not np.all(np.isfinite(torque)) or np.any(torque < 0):
-            raise checks.fail("arm_torque", f"expected non-negative amplitudes [N m], got {checks.show(c.arm_torque)}")
-        self.arm_torque = np.array(torque)
-        for name in ("arm_period", "max_tilt", "max_distance"):
-            checks.number(getattr(c, name), name, positive=True)
         self.target_position = checks.vector(c.target_position, 3, "target_position", " [m]")
         yaw = checks.number(c.target_yaw, "target_yaw", unit="rad")
         self.target_quaternion = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
+
+    def _setup_arm(self, c: StationKeepingConfig) -> None:
+        n, model = self.n_joints, self.model
+        if c.arm not in ARM_MODES:
+            raise checks.fail("arm", f"expected one of {', '.join(ARM_MODES)}, got {checks.show(c.arm)}")
+        checks.number(c.arm_amplitude, "arm_amplitude", nonnegative=True, unit="rad")
+        checks.number(c.arm_period, "arm_period", positive=True, unit="s")
+        torque = checks.vector(np.broadcast_to(c.arm_torque, (n,)) if np.ndim(c.arm_torque) == 0 else c.arm_torque,
+                               n, "arm_torque", " [N m] (one, or one per joint)")
+        if np.any(torque < 0):
+            raise checks.fail("arm_torque", f"expected non-negative amplitudes [N m], got {checks.show(c.arm_torque)}")
+        self.arm_torque = torque
+        gains = checks.vector(c.arm_gains, 2, "arm_gains", " (kp [1/s^2], kd [1/s])")
+        if np.any(gains < 0):
+            raise checks.fail("arm_gains", f"expected non-negative gains, got {checks.show(c.arm_gains)}")
+        self.arm_gains = gains
         pose = c.arm_pose if c.arm_pose is not None else DEFAULT_ARM_POSES.get(model.name, np.zeros(n))
         limits = np.asarray(model.joint_limits, dtype=float)[:, :2] if n else np.zeros((0, 2))
         self.arm_pose = np.clip(checks.vector(pose, n, "arm_pose", " [rad] (one per joint)"), limits[:, 0],
                                 limits[:, 1])
         self.joint_box = (np.maximum(limits[:, 0], self.arm_pose - c.arm_amplitude),
                           np.minimum(limits[:, 1], self.arm_pose + c.arm_amplitude))
-        if not isinstance(c.weights, Weights):
-            raise checks.fail("weights", f"expected a uvms.gym.Weights, got {checks.show(c.weights)}")
-        self.weights = c.weights
+
+    def _setup_reward(self, c: StationKeepingConfig) -> None:
+        for name in ("max_tilt", "max_distance"):
+            checks.number(getattr(c, name), name, positive=True)
+        w = c.weights
+        if not isinstance(w, Weights):
+            raise checks.fail("weights", f"expected a uvms.gym.Weights, got {checks.show(w)}")
+        for name in ("position", "attitude", "velocity", "effort"):
+            checks.number(getattr(w, name), f"weights.{name}", nonnegative=True)
+        self.weights = w
         penalty = c.termination_penalty
         if penalty is None:
-            penalty = c.weights.position * c.max_distance ** 2 + c.weights.attitude * c.max_tilt ** 2
+            penalty = w.position * c.max_distance ** 2 + w.attitude * c.max_tilt ** 2
         self.termination_penalty = checks.number(penalty, "termination_penalty", nonnegative=True)
-        self._setup_action(thrusters, Actuation)
 
     # ---------------------------------------------------------------------------------------- spaces
 
@@ -292,7 +310,7 @@ class StationKeepingTask:
     def _tracker(self, times: np.ndarray, angles: np.ndarray):
         from uvms.control.arm import ComputedTorqueArm, JointTrajectory
 
-        kp, kd = self.config.arm_gains
+        kp, kd = self.arm_gains
         return ComputedTorqueArm(self.model, JointTrajectory(times, angles), kp=kp, kd=kd, base="moving",
                                  period=ARM_TRACKER_PERIOD)
 

@@ -35,8 +35,8 @@ NONE, COMMAND, BODY_WRENCH = 0, 1, 2
 
 @njit(cache=True, nogil=True)
 def advance_members(loops, lo, hi, done, steps, inputs, kind, out, codes, active):
-    """Members ``lo <= k < hi`` of ``loops`` with ``active[k]``: write ``inputs[k]`` into the held actuator commands (``kind``
-    :data:`COMMAND`) or the held external body wrench (:data:`BODY_WRENCH`), advance from global step
+    """Members ``lo <= k < hi`` of ``loops`` with ``active[k]``: write ``inputs[k]`` into the held actuator
+    commands (``kind`` :data:`COMMAND`) or the held external body wrench (:data:`BODY_WRENCH`), advance from global step
     ``done[k]`` by ``steps`` steps (:func:`~uvms.sim.compiled_loop.advance_loop`), and copy the state into
     ``out[k]``. ``done[k]`` and ``codes[k]`` (0, or the divergence code) are updated; a member whose code is
     already non-zero is left alone."""
