@@ -162,6 +162,18 @@ def test_python_update_is_the_kernel_and_reset_forgets(model, recorded):
     assert len(recorded) > controller.PYTHON_UPDATES
 
 
+def test_compiled_update_flag(model):
+    from uvms.control.smc_ab import ArticulatedBodySMC
+
+    assert all(make_controller(name, model).compiled_update for name in ("smc-ab", "smc-vehicle", "smc-ne", "pid"))
+
+    class Custom(ArticulatedBodySMC):
+        def update(self, measurement):
+            return super().update(measurement)
+
+    assert not Custom(model).compiled_update
+
+
 def test_no_controller_writes_zero():
     data = no_controller()
     wrench = np.ones(6)

@@ -26,7 +26,9 @@ def compiled_allocation(L, wrench, lower, upper):
     if np.all(x >= lower) and np.all(x <= upper):
         return x
     eps = 1e-12 * float(np.sum(L * L))
-    bounded_least_squares(np.ascontiguousarray(L), wrench, lower, upper, eps, x, np.zeros(L.shape[1], np.int64))
+    redundant = np.linalg.matrix_rank(L) < L.shape[1]
+    bounded_least_squares(np.ascontiguousarray(L), wrench, lower, upper, eps, redundant, x,
+                          np.zeros(L.shape[1], np.int64))
     return x
 
 
@@ -39,11 +41,16 @@ def optimality_gap(L, wrench, lower, upper, thrust):
     return max(np.abs(g[free]).max(initial=0.0), (-g[at_lower]).max(initial=0.0), g[at_upper].max(initial=0.0))
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=300, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.integers(1, 10), st.floats(0.5, 5.0))
 def test_compiled_bounded_least_squares_equals_scipy(seed, m, overdrive):
-    """Random layouts (redundant with m > 6, rank-deficient with m < 6), random asymmetric limits, wrenches
-    beyond them: same achieved wrench and same thrust as allocate() to ~1e-9."""
+    """Random layouts (redundant with m > 6 or with two parallel thrusters, rank-deficient with m < 6), random
+    asymmetric limits, wrenches beyond them. The achieved wrench (unique) equals allocate()'s to 1e-9 and is
+    optimal (KKT of the bounded least squares). The thrust: with a full-rank layout (a unique minimiser) equal
+    to allocate()'s to 1e-9; with a null space allocate() refines by SLSQP (ftol 1e-16), which stops within
+    ~1e-7 N of the minimum-norm thrust (in 3000 random cases: 2897 equal to 1e-8, 91 with SLSQP's norm larger,
+    12 differing by 1e-8 to 4e-7 N), so there the compiled thrust's norm must not exceed allocate()'s by more
+    than that."""
     rng = np.random.default_rng(seed)
     positions = rng.uniform(-0.3, 0.3, (m, 3))
     directions = rng.normal(size=(m, 3))
@@ -59,15 +66,32 @@ def test_compiled_bounded_least_squares_equals_scipy(seed, m, overdrive):
     scale = max(1.0, np.abs(wrench).max())
     np.testing.assert_allclose(L @ thrust, reference.achieved, rtol=0, atol=1e-9 * scale)
     assert optimality_gap(L, wrench, lower, upper, thrust) < 1e-8 * scale
-    if np.linalg.matrix_rank(L) == m or thrust @ thrust >= reference.thrust @ reference.thrust - 1e-9:
+    if np.linalg.matrix_rank(L) == m:
         np.testing.assert_allclose(thrust, reference.thrust, rtol=0, atol=1e-9 * max(1.0, np.abs(upper).max()))
-    # else: SLSQP stopped short of the minimum norm; ours is at least as small with the same wrench (checked above)
+    else:
+        norm, reference_norm = np.linalg.norm(thrust), np.linalg.norm(reference.thrust)
+        assert norm <= reference_norm + 1e-6 * max(1.0, reference_norm)
 
 
-@pytest.mark.parametrize("name", [n for n in layout_names() if layout(n)])
+def thrusters_named(name):
+    if name.startswith("model:"):
+        import uvms
+
+        return tuple(uvms.load_model(name[6:]).thrusters)
+    if name == "first_order":
+        from uvms.thrusters.layouts import Thruster
+
+        return tuple(Thruster(f"f{j}", (0.2 * j, 0.1, -0.1 * j), d, "first_order")
+                     for j, d in enumerate([(1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (0, 1, 1), (1, 0, 1)]))
+    return layout(name)
+
+
+@pytest.mark.parametrize("name", [n for n in layout_names() if layout(n)]
+                         + ["model:bluerov2_heavy_alpha5", "first_order"])
 def test_allocate_command_equals_the_python_path(name):
-    """pinv first, allocate() when a limit is violated, then Healey voltage / table command / thrust."""
-    thrusters = layout(name)
+    """pinv first, allocate() when a limit is violated, then Healey voltage / table command / thrust
+    (Healey layouts, the BlueROV2's eight datasheet-table T200s, first-order thrusters)."""
+    thrusters = thrusters_named(name)
     data = thrust_command(thrusters)
     m = len(thrusters)
     L = layout_matrix(thrusters)

@@ -259,6 +259,12 @@ class CompiledController:
         """Names of :attr:`ControllerData.signals`, the logged values of an update."""
         raise NotImplementedError
 
+    @property
+    def compiled_update(self) -> bool:
+        """True when :meth:`update` is the compiled kernel's (a subclass overriding ``update`` runs in Python,
+        through the :class:`~uvms.control.base.Controller` protocol)."""
+        return type(self).update is CompiledController.update
+
     def reset(self) -> None:
         """Forget the memory (captured set point, integrators, IMU): the next update starts afresh."""
         self._data = None

@@ -17,9 +17,11 @@ the part of the wrench not produced (``thrust_cmd_<name>``, ``unachieved_<K..Z>`
 Bounded least squares, compiled. A primal active-set method (Lawson and Hanson, Ch. 23) on the strictly convex
 ``min 1/2 |Lambda T - w|^2 + 1/2 eps |T|^2`` (``eps = 1e-12 |Lambda|_F^2``) finds which thrusters sit at a
 limit; on that face the free thrusts are then recomputed exactly as the minimum-norm least-squares solution
-``T_F = pinv(Lambda_F) (w - Lambda_B T_B)`` (the ``eps -> 0`` limit), which is the lexicographic optimum
-(least residual, then least norm) whenever the face is the optimal one. The regularisation keeps every
-subproblem's solution unique, so the active set cannot cycle on layouts with redundant thrusters.
+``T_F = pinv(Lambda_F) (w - Lambda_B T_B)`` (the ``eps -> 0`` limit), which is the least residual. The regularisation keeps every
+subproblem's solution unique, so the active set cannot cycle on layouts with redundant thrusters. With a
+null space (rank < m) the minimiser is not unique: a second active-set pass
+(:func:`minimum_norm_refinement`) finds the least ``|T|`` producing that same wrench within the limits, as
+:func:`uvms.thrusters.allocation.allocate` does with SLSQP.
 """
 
 from __future__ import annotations
@@ -49,6 +51,7 @@ class ThrustCommand(NamedTuple):
     kind: np.ndarray            # (m,) int64 HEALEY, TABLE or THRUST
     params: np.ndarray          # (m, P) each thruster's kernel parameters (rows zero-padded)
     coefficients: np.ndarray    # (m, 3) Healey steady-state coefficients (zeros for others)
+    redundant: bool             # rank(Lambda) < m: minimum-norm refinement among the minimisers
     thrust: np.ndarray          # (m,) scratch: the allocated thrusts
     side: np.ndarray            # (m,) int64 scratch: -1 at lower, +1 at upper, 0 free
 
@@ -77,7 +80,8 @@ def thrust_command(thrusters) -> ThrustCommand:
     eps = 1e-12 * max(float(np.sum(Lambda * Lambda)), 1e-300)
     return ThrustCommand(m=m, Lambda=Lambda, pinv=pinv, lower=np.array(lower, dtype=float),
                          upper=np.array(upper, dtype=float), regularisation=eps, kind=kind.reshape(m),
-                         params=params, coefficients=coefficients, thrust=np.zeros(m),
+                         params=params, coefficients=coefficients,
+                         redundant=bool(m and np.linalg.matrix_rank(Lambda) < m), thrust=np.zeros(m),
                          side=np.zeros(m, dtype=np.int64))
 
 
@@ -125,9 +129,11 @@ def _face_solve(A, w, x, side, eps):
 
 
 @njit(cache=True, nogil=True)
-def bounded_least_squares(A, w, lower, upper, eps, x, side):
+def bounded_least_squares(A, w, lower, upper, eps, redundant, x, side):
     """``x`` (m,): within ``[lower, upper]``, minimising ``|A x - w|`` and then ``|x|`` (module docstring).
-    ``x`` holds a starting guess on entry (clipped here); ``side`` (m,) is scratch (the final active set)."""
+    ``x`` holds a starting guess on entry (clipped here); ``side`` (m,) is scratch (the final active set);
+    ``redundant``: ``A`` has a null space (rank < m), so the minimiser is not unique and the minimum-norm one
+    is sought among them (:func:`minimum_norm_refinement`)."""
     m = A.shape[1]
     for i in range(m):
         if x[i] <= lower[i]:
@@ -198,6 +204,87 @@ def bounded_least_squares(A, w, lower, upper, eps, x, side):
             if side[i] == 0:
                 x[i] = min(max(z[c], lower[i]), upper[i])
                 c += 1
+    if redundant:
+        minimum_norm_refinement(A, lower, upper, x, side)
+
+
+@njit(cache=True, nogil=True)
+def minimum_norm_refinement(A, lower, upper, x, side):
+    """Among the thrusts producing the same wrench ``a = A x`` within the limits, the one of least ``|x|``
+    (``x`` in, out): a primal active-set method on ``min 1/2 |x|^2`` subject to ``A x = a`` and the bounds.
+    On a face (bounded thrusters held) the free ones are the minimum-norm solution ``pinv(A_F) (a - A_B x_B)``;
+    at a face's optimum ``lambda`` solves ``A_F^T lambda = -x_F`` and a held thruster is released when its KKT
+    multiplier ``x_i + A_i^T lambda`` has the wrong sign (negative at a lower limit, positive at an upper)."""
+    m = A.shape[1]
+    a = np.zeros(6)
+    for r in range(6):
+        for i in range(m):
+            a[r] += A[r, i] * x[i]
+    for i in range(m):
+        side[i] = -1 if x[i] <= lower[i] else (1 if x[i] >= upper[i] else 0)
+    tol = 1e-10 * (1.0 + np.abs(x).max())
+    frozen = np.zeros(m, dtype=np.bool_)          # released without progress: not released again until a step
+    for _ in range(10 * m + 20):
+        z = _face_solve(A, a, x, side, 0.0)
+        alpha, block, block_side = 1.0, -1, 0
+        c = 0
+        for i in range(m):
+            if side[i] == 0:
+                d = z[c] - x[i]
+                if d < 0.0 and z[c] < lower[i]:
+                    step = (lower[i] - x[i]) / d
+                    if step < alpha:
+                        alpha, block, block_side = step, i, -1
+                elif d > 0.0 and z[c] > upper[i]:
+                    step = (upper[i] - x[i]) / d
+                    if step < alpha:
+                        alpha, block, block_side = step, i, 1
+                c += 1
+        alpha = max(alpha, 0.0)
+        moved = False
+        c = 0
+        for i in range(m):
+            if side[i] == 0:
+                new = x[i] + alpha * (z[c] - x[i])
+                moved = moved or abs(new - x[i]) > tol
+                x[i] = new
+                c += 1
+        if moved:
+            frozen[:] = False
+        if block >= 0:
+            side[block] = block_side
+            x[block] = lower[block] if block_side < 0 else upper[block]
+            if not moved:
+                frozen[block] = True
+            continue
+        k = 0
+        for i in range(m):
+            if side[i] == 0:
+                k += 1
+        lam = np.zeros(6)
+        if k > 0:
+            At = np.zeros((k, 6))
+            rhs = np.zeros(k)
+            c = 0
+            for i in range(m):
+                if side[i] == 0:
+                    for r in range(6):
+                        At[c, r] = A[r, i]
+                    rhs[c] = -x[i]
+                    c += 1
+            lam = np.linalg.lstsq(At, rhs, rcond=1e-10)[0]
+        worst, release = tol, -1
+        for i in range(m):
+            if side[i] != 0 and not frozen[i]:
+                mu = x[i]
+                for r in range(6):
+                    mu += A[r, i] * lam[r]
+                violation = -mu if side[i] < 0 else mu
+                if violation > worst:
+                    worst, release = violation, i
+        if release < 0:
+            break
+        side[release] = 0
 
 
 # ----------------------------------------------------------------------------------------- the command
@@ -225,7 +312,8 @@ def allocate_command(alloc, wrench, command, signals):
         if value < alloc.lower[h] or value > alloc.upper[h]:
             violated = True
     if violated:
-        bounded_least_squares(alloc.Lambda, wrench, alloc.lower, alloc.upper, alloc.regularisation, T, alloc.side)
+        bounded_least_squares(alloc.Lambda, wrench, alloc.lower, alloc.upper, alloc.regularisation, alloc.redundant,
+                              T, alloc.side)
     for k in range(6):
         achieved = 0.0
         for h in range(m):
