@@ -14,10 +14,12 @@ import numpy as np
 from numba import njit
 
 from uvms import checks
+from uvms.dynamics.jit import kernel
+from uvms.dynamics.kernel_model import JOINT_OFFSET
 from uvms.dynamics.passes import joint_transform
 
 
-@njit(cache=True)
+@kernel
 def quaternion_to_rotation(qw, qx, qy, qz, R):
     """Body-to-world rotation of a unit quaternion ``[w, x, y, z]`` (into ``R``)."""
     R[0, 0] = 1 - 2 * (qy * qy + qz * qz)
@@ -31,11 +33,10 @@ def quaternion_to_rotation(qw, qx, qy, qz, R):
     R[2, 2] = 1 - 2 * (qx * qx + qy * qy)
 
 
-@njit(cache=True)
-def link_poses(km, R0, p0, q, R_out, p_out, E, r, X):
+@kernel
+def link_poses(km, R0, p0, q, R_out, p_out, E, r):
     """World pose of every body (``R_out[i]`` body-to-world, ``p_out[i]`` origin) and, at index ``nb``,
-    of the end effector. ``R_out``/``p_out`` have ``nb + 1`` rows; ``E`` (3x3), ``r`` (3) and ``X`` (6x6) are
-    scratch."""
+    of the end effector. ``R_out``/``p_out`` have ``nb + 1`` rows; ``E`` (3x3) and ``r`` (3) are scratch."""
     nb = km.parent.shape[0]
     for a in range(3):
         p_out[0, a] = p0[a]
@@ -44,8 +45,8 @@ def link_poses(km, R0, p0, q, R_out, p_out, E, r, X):
     for i in range(1, nb + 1):
         if i < nb:
             p = km.parent[i]
-            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, 0],
-                            E, r, X)
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET],
+                            E, r)
         else:
             p = km.ee_body
             for a in range(3):
@@ -87,7 +88,7 @@ def forward_kinematics(model, state) -> Poses:
     R = np.zeros((nb + 1, 3, 3))
     p = np.zeros((nb + 1, 3))
     link_poses(model.kernel, state.rotation, np.array(state.position, dtype=float), np.array(state.q, dtype=float),
-               R, p, np.zeros((3, 3)), np.zeros(3), np.zeros((6, 6)))
+               R, p, np.zeros((3, 3)), np.zeros(3))
     return Poses(rotation=R, position=p)
 
 
@@ -139,11 +140,10 @@ def end_effector_path(km, states, out):
     p = np.empty((nb + 1, 3))
     E = np.empty((3, 3))
     r = np.empty(3)
-    X = np.empty((6, 6))
     R0 = np.empty((3, 3))
     for k in range(states.shape[0]):
         x = states[k]
         quaternion_to_rotation(x[3], x[4], x[5], x[6], R0)
-        link_poses(km, R0, x[0:3], x[13:13 + n], R, p, E, r, X)
+        link_poses(km, R0, x[0:3], x[13:13 + n], R, p, E, r)
         for a in range(3):
             out[k, a] = p[nb, a]

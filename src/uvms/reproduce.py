@@ -38,9 +38,9 @@ from uvms.output import atomic_write_text, staged_directory
 
 _PAPER = SlidingModeParameters()
 """The paper's controller values: the defaults of the sliding-mode parameters, their one definition."""
-PAPER_LAMBDA = _PAPER.bandwidth
+PAPER_LAMBDA = _PAPER.bandwidth[0]         # the same on every paper axis
 """Sliding-surface bandwidth lambda [1/s] (appendix)."""
-PAPER_PHI = _PAPER.boundary_layer
+PAPER_PHI = _PAPER.boundary_layer[0]
 """Boundary-layer thickness Phi (appendix)."""
 PAPER_MODEL_ERROR = _PAPER.hydro_scale
 """Controller model's added mass and drag = 0.4 x the plant's: the paper's "differed by 60 %"."""

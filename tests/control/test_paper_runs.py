@@ -54,8 +54,9 @@ def test_the_paper_constants_are_the_sliding_mode_defaults():
     from uvms.control.smc import SlidingModeParameters
 
     paper = SlidingModeParameters()
-    assert (reproduce.PAPER_LAMBDA, reproduce.PAPER_PHI, reproduce.PAPER_MODEL_ERROR) == (
-        paper.bandwidth, paper.boundary_layer, paper.hydro_scale)
+    assert paper.bandwidth == (reproduce.PAPER_LAMBDA,) * len(paper.axes)        # one value on every paper axis
+    assert paper.boundary_layer == (reproduce.PAPER_PHI,) * len(paper.axes)
+    assert reproduce.PAPER_MODEL_ERROR == paper.hydro_scale
     assert reproduce.PAPER_B == {"surge": paper.b_surge, "sway": paper.b_sway, "yaw": paper.b_yaw}
 
 

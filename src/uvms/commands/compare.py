@@ -116,8 +116,9 @@ def run(args: argparse.Namespace) -> int:
     out = Console()
     out.print(view)
     paper = SlidingModeParameters()
-    out.print(escape(f"Peak body-frame errors (Phi/lambda = {paper.boundary_layer / paper.bandwidth * 1e3:.1f} mm with "
-                     f"the paper's values); peak |s| [m/s, rad/s] from the states with lambda = {paper.bandwidth:g}; "
+    lam, phi = paper.bandwidth[0], paper.boundary_layer[0]          # the same on every paper axis
+    out.print(escape(f"Peak body-frame errors (Phi/lambda = {phi / lam * 1e3:.1f} mm with "
+                     f"the paper's values); peak |s| [m/s, rad/s] from the states with lambda = {lam:g}; "
                      "RMS commands; chatter: sign changes of the command increments."))
 
     if args.json:

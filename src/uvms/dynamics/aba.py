@@ -3,7 +3,8 @@ McMillan, Orin & McGhee 1995; paper Sections 3-4, Eqs. 13-23).
 
 Three passes, in the book's symbols (``S_i`` the joint's unit motion subspace; ``e_z`` for a DH joint):
 
-1. outward (:func:`uvms.dynamics.passes.outward_pass`): ``Xup, v, c`` and ``IA_i = I^H_i``, ``pA_i = beta^H``
+1. outward (:func:`uvms.dynamics.passes.outward_pass`): ``Xup = plucker(E, r)`` (kept as ``E, r``), ``v, c``,
+   each body's named forces and ``IA_i = I^H_i``, ``pA_i = beta^H``
 2. inward, tip to base (Eqs. 13-14), ``tau_p`` the joint's damping and friction
    (:func:`uvms.dynamics.passes.passive_joint_force`, left in ``u`` by the outward pass)::
 
@@ -16,37 +17,43 @@ Three passes, in the book's symbols (``S_i`` the joint's unit motion subspace; `
        a_0 = -IA_0^-1 pA_0   (floating base; a_0 = 0 when the vehicle is clamped)
        a'  = Xup_i a_p + c_i    qdd_i = (u_i - U_i^T a') / d_i    a_i = a' + S qdd_i
 
-``a_0`` is the vehicle's spatial acceleration in body axes, which is exactly ``nu_dot``.
+``a_0`` is the vehicle's spatial acceleration in body axes, which is exactly ``nu_dot``; every body's ``a_i`` is
+left in ``ws.a`` (read by :mod:`uvms.hydro.inspect`). Transforms are applied by their structure
+(:func:`~uvms.dynamics.blocks.transform_motion`, :func:`~uvms.dynamics.blocks.transform_force_add`,
+:func:`~uvms.dynamics.blocks.congruence_add_plucker`), never as dense 6x6 products.
 """
 
 from __future__ import annotations
 
-from numba import njit
+from uvms.dynamics.jit import kernel
 
-from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, mat6_vec, mat6T_vec_add
+from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, transform_force_add, transform_motion
+from uvms.dynamics.jit import kernel
+from uvms.dynamics.kernel_model import JOINT_Z, Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass
 
 
-@njit(cache=True)
+@kernel
 def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd):
     """Write ``nu_dot`` (6) and ``qdd`` (n) for the state and inputs; see the module docstring."""
     nb = km.parent.shape[0]
     outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid)
-    apply_external(km.ee_body, km.ee_E, km.ee_r, ws.pA, f_body, f_ee, ws.m6[0])
+    apply_external(km, ws, f_body, f_ee)
 
     # -- pass 2: articulated inertias and bias forces, tip to base (Eqs. 13-14)
-    Ia = ws.m6[1]
-    tmp = ws.m6[2]
-    pa = ws.w6[0]
+    Ia = ws.Ia
+    pa = ws.pa
     for i in range(nb - 1, 0, -1):
         p = km.parent[i]
         IA = ws.IA[i]
         U = ws.U[i]
-        if km.joint_kind[i] == 0:               # S = e_z (modified DH): S^T x = x[2], IA S = IA[:, 2]
+        pA = ws.pA[i]
+        c = ws.c[i]
+        if km.joint_kind[i] == JOINT_Z:         # S = e_z (modified DH): S^T x = x[Z_AXIS], IA S = IA[:, Z_AXIS]
             for k in range(6):
-                U[k] = IA[k, 2]
-            d = U[2]
-            sp = ws.pA[i, 2]
+                U[k] = IA[k, Z_AXIS]
+            d = U[Z_AXIS]
+            sp = pA[Z_AXIS]
         else:
             S = km.S[i]
             for k in range(6):
@@ -58,42 +65,48 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
             sp = 0.0
             for k in range(6):
                 d += S[k] * U[k]
-                sp += S[k] * ws.pA[i, k]
+                sp += S[k] * pA[k]
         ws.d[i] = d
-        ws.u[i] = (tau[i - 1] + ws.u[i]) - sp
-        inv_d = 1.0 / ws.d[i]
+        u = (tau[i - 1] + ws.u[i]) - sp
+        ws.u[i] = u
+        inv_d = 1.0 / d
         for r in range(6):
             Ur = U[r] * inv_d
             for k in range(6):
                 Ia[r, k] = IA[r, k] - Ur * U[k]
-        mat6_vec(Ia, ws.c[i], pa)
-        for k in range(6):
-            pa[k] += ws.pA[i, k] + U[k] * ws.u[i] * inv_d
-        congruence_add_plucker(ws.E[i], ws.r[i], Ia, ws.IA[p], tmp)
-        mat6T_vec_add(ws.Xup[i], pa, ws.pA[p])
+        for r in range(6):                      # pa = pA + Ia c + U u / d
+            s = 0.0
+            for k in range(6):
+                s += Ia[r, k] * c[k]
+            pa[r] = s + (pA[r] + U[r] * u * inv_d)
+        congruence_add_plucker(ws.E[i], ws.r[i], Ia, ws.IA[p], ws.rotated)
+        transform_force_add(ws.E[i], ws.r[i], pa, ws.pA[p])
 
     # -- pass 3: accelerations, base to tip (Eqs. 16, 20, 22)
+    a0 = ws.a[0]
     if fixed_base:
         for k in range(6):
-            ws.a[0, k] = 0.0
+            a0[k] = 0.0
     else:
-        rhs = ws.w6[1]
+        rhs = ws.rhs
         for k in range(6):
             rhs[k] = -ws.pA[0, k]
-        cholesky_solve6(ws.IA[0], rhs, tmp, ws.a[0])
+        cholesky_solve6(ws.IA[0], rhs, ws.chol, a0)
     for k in range(6):
-        nu_dot[k] = ws.a[0, k]
+        nu_dot[k] = a0[k]
     for i in range(1, nb):
-        p = km.parent[i]
         ai = ws.a[i]
-        mat6_vec(ws.Xup[i], ws.a[p], ai)
+        transform_motion(ws.E[i], ws.r[i], ws.a[km.parent[i]], ai)
+        U = ws.U[i]
+        c = ws.c[i]
         s = 0.0
         for k in range(6):
-            ai[k] += ws.c[i, k]
-            s += ws.U[i, k] * ai[k]
-        qdd[i - 1] = (ws.u[i] - s) / ws.d[i]
-        if km.joint_kind[i] == 0:
-            ai[2] += qdd[i - 1]
+            ai[k] += c[k]
+            s += U[k] * ai[k]
+        qddi = (ws.u[i] - s) / ws.d[i]
+        qdd[i - 1] = qddi
+        if km.joint_kind[i] == JOINT_Z:
+            ai[Z_AXIS] += qddi
         else:
             for k in range(6):
-                ai[k] += km.S[i, k] * qdd[i - 1]
+                ai[k] += km.S[i, k] * qddi

@@ -7,10 +7,11 @@ output argument. ``X`` is a 6x6 Plucker motion transform, ``X^T`` maps forces ba
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from uvms.dynamics.jit import block
 
 
-@njit(cache=True, inline="always")
+@block
 def cross3(a, b, out):
     """``out = a x b`` for 3-vectors (``out`` must not alias ``a`` or ``b``)."""
     out[0] = a[1] * b[2] - a[2] * b[1]
@@ -18,14 +19,14 @@ def cross3(a, b, out):
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
-@njit(cache=True, inline="always")
+@block
 def mat3_vec(E, x, out):
     """``out = E x`` (3x3)."""
     for i in range(3):
         out[i] = E[i, 0] * x[0] + E[i, 1] * x[1] + E[i, 2] * x[2]
 
 
-@njit(cache=True, inline="always")
+@block
 def mat6_vec(A, x, out):
     """``out = A x`` (6x6)."""
     for i in range(6):
@@ -35,7 +36,7 @@ def mat6_vec(A, x, out):
         out[i] = s
 
 
-@njit(cache=True, inline="always")
+@block
 def mat6T_vec_add(A, x, out):
     """``out += A^T x`` (6x6): with ``A = Xup`` this carries a child's force to its parent."""
     for j in range(6):
@@ -45,7 +46,40 @@ def mat6T_vec_add(A, x, out):
         out[j] += s
 
 
-@njit(cache=True, inline="always")
+@block
+def transform_motion(E, r, m, out):
+    """``out = X m`` for ``X = plucker(E, r)``, by the transform's structure (Featherstone Eq. 2.24; a rotation
+    and a translation, never the dense 6x6 product)::
+
+        X [w; v] = [E w; E (v - r x w)]
+    """
+    w0, w1, w2 = m[0], m[1], m[2]
+    l0 = m[3] - (r[1] * w2 - r[2] * w1)
+    l1 = m[4] - (r[2] * w0 - r[0] * w2)
+    l2 = m[5] - (r[0] * w1 - r[1] * w0)
+    for i in range(3):
+        out[i] = E[i, 0] * w0 + E[i, 1] * w1 + E[i, 2] * w2
+        out[3 + i] = E[i, 0] * l0 + E[i, 1] * l1 + E[i, 2] * l2
+
+
+@block
+def transform_force_add(E, r, f, out):
+    """``out += X^T f`` for ``X = plucker(E, r)``: a force in body coordinates handed to the parent::
+
+        X^T [n; f] = [E^T n + r x (E^T f); E^T f]
+    """
+    f0 = E[0, 0] * f[3] + E[1, 0] * f[4] + E[2, 0] * f[5]
+    f1 = E[0, 1] * f[3] + E[1, 1] * f[4] + E[2, 1] * f[5]
+    f2 = E[0, 2] * f[3] + E[1, 2] * f[4] + E[2, 2] * f[5]
+    out[0] += (E[0, 0] * f[0] + E[1, 0] * f[1] + E[2, 0] * f[2]) + (r[1] * f2 - r[2] * f1)
+    out[1] += (E[0, 1] * f[0] + E[1, 1] * f[1] + E[2, 1] * f[2]) + (r[2] * f0 - r[0] * f2)
+    out[2] += (E[0, 2] * f[0] + E[1, 2] * f[1] + E[2, 2] * f[2]) + (r[0] * f1 - r[1] * f0)
+    out[3] += f0
+    out[4] += f1
+    out[5] += f2
+
+
+@block
 def crm_mul(v, m, out):
     """``out = v x m`` (spatial motion cross product, Featherstone Eq. 2.31)."""
     out[0] = v[1] * m[2] - v[2] * m[1]
@@ -56,7 +90,7 @@ def crm_mul(v, m, out):
     out[5] = v[0] * m[4] - v[1] * m[3] + v[3] * m[1] - v[4] * m[0]
 
 
-@njit(cache=True, inline="always")
+@block
 def crf_mul_add(v, f, scale, out):
     """``out += scale * (v x* f)`` (spatial force cross product, Featherstone Eq. 2.32)."""
     out[0] += scale * (v[1] * f[2] - v[2] * f[1] + v[4] * f[5] - v[5] * f[4])
@@ -67,7 +101,7 @@ def crf_mul_add(v, f, scale, out):
     out[5] += scale * (v[0] * f[4] - v[1] * f[3])
 
 
-@njit(cache=True, inline="always")
+@block
 def plucker(E, r, X):
     """``X = [[E, 0], [-E skew(r), E]]`` (Featherstone Eq. 2.24)."""
     for i in range(3):
@@ -81,7 +115,7 @@ def plucker(E, r, X):
         X[i + 3, 2] = -(E[i, 0] * r[1] - E[i, 1] * r[0])
 
 
-@njit(cache=True, inline="always")
+@block
 def congruence_add_plucker(E, r, I, out, tmp):
     """``out += X^T I X`` for ``X = plucker(E, r)`` and a symmetric ``I``, by the transform's structure
     (Featherstone 2008, Sec. 2.8: a rotation then a translation, never a dense 6x6 product).
@@ -92,28 +126,24 @@ def congruence_add_plucker(E, r, I, out, tmp):
 
     ``tmp`` is a 6x6 scratch matrix (rows 0-2: A, rows 3-5: B; its right half: C and D).
     """
-    # A = E^T I11 E, B = E^T I12 E, C = E^T I22 E (blocks of the rotated inertia)
-    for a in range(3):
-        for b in range(3):
-            sa = 0.0
-            sb = 0.0
-            sc = 0.0
-            for k in range(3):
-                ea = E[k, a]
-                ta = 0.0
-                tb = 0.0
-                tc = 0.0
-                for m in range(3):
-                    em = E[m, b]
-                    ta += I[k, m] * em
-                    tb += I[k, 3 + m] * em
-                    tc += I[3 + k, 3 + m] * em
-                sa += ea * ta
-                sb += ea * tb
-                sc += ea * tc
-            tmp[a, b] = sa
-            tmp[3 + a, b] = sb
-            tmp[a, 3 + b] = sc
+    # A = E^T I11 E, B = E^T I12 E, C = E^T I22 E (blocks of the rotated inertia), column b at a time: the
+    # columns I11 E[:, b], I12 E[:, b], I22 E[:, b] once, then E^T times each
+    for b in range(3):
+        e0, e1, e2 = E[0, b], E[1, b], E[2, b]
+        p0 = I[0, 0] * e0 + I[0, 1] * e1 + I[0, 2] * e2
+        p1 = I[1, 0] * e0 + I[1, 1] * e1 + I[1, 2] * e2
+        p2 = I[2, 0] * e0 + I[2, 1] * e1 + I[2, 2] * e2
+        q0 = I[0, 3] * e0 + I[0, 4] * e1 + I[0, 5] * e2
+        q1 = I[1, 3] * e0 + I[1, 4] * e1 + I[1, 5] * e2
+        q2 = I[2, 3] * e0 + I[2, 4] * e1 + I[2, 5] * e2
+        c0 = I[3, 3] * e0 + I[3, 4] * e1 + I[3, 5] * e2
+        c1 = I[4, 3] * e0 + I[4, 4] * e1 + I[4, 5] * e2
+        c2 = I[5, 3] * e0 + I[5, 4] * e1 + I[5, 5] * e2
+        for a in range(3):
+            f0, f1, f2 = E[0, a], E[1, a], E[2, a]
+            tmp[a, b] = f0 * p0 + f1 * p1 + f2 * p2
+            tmp[3 + a, b] = f0 * q0 + f1 * q1 + f2 * q2
+            tmp[a, 3 + b] = f0 * c0 + f1 * c1 + f2 * c2
     # D = B + r x C, column by column: D[:, j] = B[:, j] + r x C[:, j]
     for j in range(3):
         c0, c1, c2 = tmp[0, 3 + j], tmp[1, 3 + j], tmp[2, 3 + j]
@@ -142,7 +172,7 @@ def congruence_add_plucker(E, r, I, out, tmp):
             out[3 + i, 3 + j] += tmp[i, 3 + j]
 
 
-@njit(cache=True)
+@block
 def cholesky_solve6(A, b, L, out):
     """Solve ``A out = b`` for a symmetric positive-definite 6x6 ``A`` (Cholesky; ``L`` is scratch)."""
     for j in range(6):

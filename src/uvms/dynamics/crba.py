@@ -12,48 +12,49 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from uvms.dynamics.blocks import congruence_add_plucker, mat6T_vec_add
+from uvms.dynamics.blocks import congruence_add_plucker, transform_force_add
+from uvms.dynamics.jit import block, kernel
+from uvms.dynamics.kernel_model import JOINT_OFFSET, JOINT_Z, Z_AXIS
 from uvms.dynamics.passes import joint_transform
 
 
-@njit(cache=True, inline="always")
+@block
 def sdot(kind, S, x):
-    """``S^T x`` for 6-vectors (``x[2]`` for a joint about z, ``kind == JOINT_Z``)."""
-    if kind == 0:
-        return x[2]
+    """``S^T x`` for 6-vectors (``x[Z_AXIS]`` for a joint about z, ``kind == JOINT_Z``)."""
+    if kind == JOINT_Z:
+        return x[Z_AXIS]
     s = 0.0
     for k in range(6):
         s += S[k] * x[k]
     return s
 
 
-@njit(cache=True)
+@kernel
 def crba(km, ws, q, M):
     """Write the ``(6+n) x (6+n)`` joint-space inertia matrix ``M`` (added mass included)."""
     nb = km.parent.shape[0]
     for i in range(nb):
         if i > 0:
-            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, 0],
-                            ws.E[i], ws.r[i], ws.Xup[i])
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET],
+                            ws.E[i], ws.r[i])
         for r in range(6):
             for k in range(6):
                 ws.IA[i, r, k] = km.inertia_h[i, r, k]
 
     # -- composite inertias, tip to base
-    tmp = ws.m6[2]
     for i in range(nb - 1, 0, -1):
-        congruence_add_plucker(ws.E[i], ws.r[i], ws.IA[i], ws.IA[km.parent[i]], tmp)
+        congruence_add_plucker(ws.E[i], ws.r[i], ws.IA[i], ws.IA[km.parent[i]], ws.rotated)
 
     # -- rows and columns of M
     for r in range(6):
         for k in range(6):
             M[r, k] = ws.IA[0, r, k]
-    F = ws.w6[0]
-    G = ws.w6[1]
+    F = ws.column
+    G = ws.column_up
     for i in range(1, nb):
-        if km.joint_kind[i] == 0:
+        if km.joint_kind[i] == JOINT_Z:
             for k in range(6):
-                F[k] = ws.IA[i, k, 2]
+                F[k] = ws.IA[i, k, Z_AXIS]
         else:
             for k in range(6):
                 s = 0.0
@@ -65,7 +66,7 @@ def crba(km, ws, q, M):
         while km.parent[j] > 0:
             for k in range(6):
                 G[k] = 0.0
-            mat6T_vec_add(ws.Xup[j], F, G)
+            transform_force_add(ws.E[j], ws.r[j], F, G)
             for k in range(6):
                 F[k] = G[k]
             j = km.parent[j]
@@ -74,7 +75,7 @@ def crba(km, ws, q, M):
             M[5 + j, 5 + i] = h
         for k in range(6):
             G[k] = 0.0
-        mat6T_vec_add(ws.Xup[j], F, G)
+        transform_force_add(ws.E[j], ws.r[j], F, G)
         for k in range(6):
             M[k, 5 + i] = G[k]
             M[5 + i, k] = G[k]

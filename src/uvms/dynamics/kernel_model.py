@@ -17,6 +17,9 @@ from uvms.spatial import spatial_inertia
 
 JOINT_Z = 0
 """Joint kind: revolute about the joint frame's z axis (every modified-DH joint); the kernels' fast path."""
+Z_AXIS = 2
+"""Index of ``e_z`` in a ``[angular; linear]`` 6-vector: a ``JOINT_Z`` joint's motion subspace is ``S = e_z``, so
+``S^T x = x[Z_AXIS]``, ``I S = I[:, Z_AXIS]`` and ``v + S qd`` adds ``qd`` to ``v[Z_AXIS]``."""
 JOINT_REVOLUTE = 1
 """Joint kind: revolute (or continuous) about any unit axis."""
 JOINT_PRISMATIC = 2
@@ -62,11 +65,22 @@ class KernelModel(NamedTuple):
     gravity: np.ndarray         # (3,) world gravitational acceleration a_g [m/s^2]
 
 
-class Workspace(NamedTuple):
-    """Scratch arrays for one kernel call, allocated once per run (never inside the loop)."""
+ADDED_MASS, DRAG, BUOYANCY, GRAVITY = 0, 1, 2, 3
+"""Slots of :attr:`Workspace.forces`, each body's named hydrodynamic and gravity forces (paper Eqs. 2-8, body
+axes, about the body origin, ``[moment; force]``): ``ADDED_MASS`` ``I_A a_f - (nu_r x*) I_A nu_r`` (Eq. 2 less
+its ``-I_A a``, which is in the articulated inertia), ``DRAG`` (Eqs. 3-6, Fossen and shape drag included),
+``BUOYANCY`` ``m_f (a_f - a_g)`` at the centre of buoyancy (Eqs. 7-8), ``GRAVITY`` ``m a_g`` at the centre of
+mass."""
+N_FORCES = 4
 
-    Xup: np.ndarray     # (nb, 6, 6) motion transform parent -> body i
-    E: np.ndarray       # (nb, 3, 3) parent-to-body coordinate rotation
+
+class Workspace(NamedTuple):
+    """Scratch arrays for one kernel call, allocated once per run (never inside the loop).
+
+    Per-body arrays (first index the body) hold what the passes compute and later passes or read-outs
+    (:mod:`uvms.hydro.inspect`, the controllers) use; the others are named scratch of one step of a pass."""
+
+    E: np.ndarray       # (nb, 3, 3) parent-to-body coordinate rotation of Xup_i = plucker(E_i, r_i)
     r: np.ndarray       # (nb, 3) body origin in parent coordinates [m]
     v: np.ndarray       # (nb, 6) body spatial velocity
     c: np.ndarray       # (nb, 6) velocity-product acceleration v_i x S qd_i
@@ -78,10 +92,24 @@ class Workspace(NamedTuple):
     u: np.ndarray       # (nb,) the joint's passive torque after the outward pass; then tau + tau_p - S^T pA
     g: np.ndarray       # (nb, 3) gravity in body axes
     vc: np.ndarray      # (nb, 3) current velocity in body axes
-    af: np.ndarray      # (nb, 3) fluid acceleration in body axes
-    m6: np.ndarray      # (3, 6, 6) scratch matrices
-    w6: np.ndarray      # (7, 6) scratch vectors (rows 5-6: the shape drag kernel's work array)
-    f4: np.ndarray      # (4, 6) one body's named forces: added mass, drag, buoyancy, gravity
+    af: np.ndarray      # (nb, 3) fluid acceleration in body axes (world a_f rotated)
+    nu_r: np.ndarray    # (nb, 6) body velocity relative to the fluid (Eq. 2's nu_r)
+    forces: np.ndarray  # (nb, N_FORCES, 6) each body's named forces (slots ADDED_MASS, DRAG, BUOYANCY, GRAVITY)
+    Ia: np.ndarray      # (6, 6) pass 2: IA_i less its joint's subspace, IA_i - U_i U_i^T / d_i
+    rotated: np.ndarray     # (6, 6) the congruence's rotated inertia blocks (blocks.congruence_add_plucker)
+    chol: np.ndarray    # (6, 6) Cholesky factor of the vehicle's articulated inertia (pass 3)
+    h: np.ndarray       # (6,) I_i v_i (outward pass), I^H_i a_i (Newton-Euler)
+    pa: np.ndarray      # (6,) pass 2: the bias force handed to the parent
+    rhs: np.ndarray     # (6,) pass 3: -pA_0, the right-hand side of IA_0 a_0 = -pA_0
+    f_ee: np.ndarray    # (6,) the end-effector wrench moved to its body, eeX_b^T f_ee (Eq. 14)
+    no_wrench: np.ndarray   # (6,) zeros: the Newton-Euler algorithm's body wrench (it computes that wrench)
+    sw: np.ndarray      # (6,) S_i qd_i of a joint of any axis (outward pass)
+    column: np.ndarray  # (6,) CRBA: the force F = IC_i S_i of joint i's column, in the axes of the current body
+    column_up: np.ndarray   # (6,) CRBA: F handed to the parent, Xup_j^T F
+    a_fluid: np.ndarray     # (6,) the fluid's acceleration seen in one body's axes (hydro.current)
+    nu_c: np.ndarray    # (6,) relative velocity at a link's drag cylinder; Fossen / shape drag of one body
+    f_c: np.ndarray     # (6,) drag in the cylinder's axes
+    shape_work: np.ndarray  # (12,) the shape drag kernel's work array (hydro.shapes.WORK_SIZE)
 
 
 def kernel_model_from(model) -> KernelModel:
@@ -170,10 +198,15 @@ def _shape_rows(model) -> np.ndarray:
 
 def make_workspace(n_bodies: int) -> Workspace:
     """Allocate the scratch arrays for a model with ``n_bodies`` bodies."""
+    from uvms.hydro.shapes import WORK_SIZE
+
     nb = n_bodies
     return Workspace(
-        Xup=np.zeros((nb, 6, 6)), E=np.zeros((nb, 3, 3)), r=np.zeros((nb, 3)), v=np.zeros((nb, 6)), c=np.zeros((nb, 6)),
-        a=np.zeros((nb, 6)), IA=np.zeros((nb, 6, 6)), pA=np.zeros((nb, 6)), U=np.zeros((nb, 6)),
-        d=np.zeros(nb), u=np.zeros(nb), g=np.zeros((nb, 3)), vc=np.zeros((nb, 3)), af=np.zeros((nb, 3)),
-        m6=np.zeros((3, 6, 6)), w6=np.zeros((7, 6)), f4=np.zeros((4, 6)),
+        E=np.zeros((nb, 3, 3)), r=np.zeros((nb, 3)), v=np.zeros((nb, 6)), c=np.zeros((nb, 6)), a=np.zeros((nb, 6)),
+        IA=np.zeros((nb, 6, 6)), pA=np.zeros((nb, 6)), U=np.zeros((nb, 6)), d=np.zeros(nb), u=np.zeros(nb),
+        g=np.zeros((nb, 3)), vc=np.zeros((nb, 3)), af=np.zeros((nb, 3)), nu_r=np.zeros((nb, 6)),
+        forces=np.zeros((nb, N_FORCES, 6)), Ia=np.zeros((6, 6)), rotated=np.zeros((6, 6)), chol=np.zeros((6, 6)),
+        h=np.zeros(6), pa=np.zeros(6), rhs=np.zeros(6), f_ee=np.zeros(6), no_wrench=np.zeros(6), sw=np.zeros(6),
+        column=np.zeros(6), column_up=np.zeros(6), a_fluid=np.zeros(6), nu_c=np.zeros(6), f_c=np.zeros(6),
+        shape_work=np.zeros(WORK_SIZE),
     )

@@ -17,9 +17,11 @@ The added mass's ``-I_A a`` is not a force here: it is in the articulated inerti
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from uvms.dynamics.blocks import crf_mul_add, crm_mul, mat3_vec, mat6_vec, plucker
+from uvms.dynamics.blocks import crf_mul_add, crm_mul, mat3_vec, mat6_vec, transform_force_add, transform_motion
+from uvms.dynamics.jit import block
+from uvms.dynamics.kernel_model import (ADDED_MASS, BUOYANCY, DAMPING, DRAG, FRICTION, GRAVITY, INV_SPEED, JOINT_OFFSET,
+                                        JOINT_PRISMATIC, JOINT_Z, Z_AXIS)
 from uvms.hydro.added_mass import added_mass_force
 from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
@@ -28,23 +30,24 @@ from uvms.hydro.fossen import fossen_damping_force
 from uvms.hydro.shapes import shapes_drag_force
 
 
-@njit(cache=True, inline="always")
-def joint_transform(tree_E, tree_r, kind, S, q, E_out, r_out, X_out):
+@block
+def joint_transform(tree_E, tree_r, kind, S, q, E_out, r_out):
     """Joint ``i``'s transform from its parent (Featherstone Table 4.1, ``Xup_i = XJ(q) XT_i``) at joint
-    coordinate ``q`` (offset included): ``E_out`` the parent-to-body coordinate rotation, ``r_out`` the body
-    origin in parent coordinates and ``X_out = plucker(E_out, r_out)``.
+    coordinate ``q`` (offset included): ``E_out`` the parent-to-body coordinate rotation and ``r_out`` the body
+    origin in parent coordinates, so that ``Xup_i = plucker(E_out, r_out)`` (applied by its structure,
+    :func:`~uvms.dynamics.blocks.transform_motion`, never formed).
 
     ``kind`` (:mod:`uvms.dynamics.kernel_model`): ``JOINT_Z`` revolute about z (modified DH),
     ``E = Rz(q)^T E_T``; ``JOINT_REVOLUTE`` about the unit axis ``S[0:3]`` (joint-frame coordinates),
     ``E = Rot(axis, q)^T E_T`` by Rodrigues' formula; ``JOINT_PRISMATIC`` along ``S[3:6]``, ``E = E_T``,
     ``r = r_T + E_T^T axis q``. Revolute joints keep ``r = r_T``.
     """
-    if kind == 2:
+    if kind == JOINT_PRISMATIC:
         for a in range(3):
             for j in range(3):
                 E_out[a, j] = tree_E[a, j]
             r_out[a] = tree_r[a] + (tree_E[0, a] * S[3] + tree_E[1, a] * S[4] + tree_E[2, a] * S[5]) * q
-    elif kind == 0:
+    elif kind == JOINT_Z:
         c = np.cos(q)
         s = np.sin(q)
         for j in range(3):
@@ -75,10 +78,9 @@ def joint_transform(tree_E, tree_r, kind, S, q, E_out, r_out, X_out):
             E_out[2, j] = r02 * e0 + r12 * e1 + r22 * e2
         for a in range(3):
             r_out[a] = tree_r[a]
-    plucker(E_out, r_out, X_out)
 
 
-@njit(cache=True, inline="always")
+@block
 def passive_joint_force(damping, friction, inv_speed, qd):
     """Joint damping and regularised Coulomb friction on a joint moving at ``qd`` (``docs/models.md``)::
 
@@ -88,82 +90,84 @@ def passive_joint_force(damping, friction, inv_speed, qd):
     return -damping * qd - friction * x
 
 
-@njit(cache=True, inline="always")
-def body_hydro_forces(I_A, drag_linear, drag_angular, cylinder, fossen, shapes, is_vehicle, mass, com, fluid_mass,
-                      cob, v, vc, af, g, f, scratch):
-    """The four named forces on one body at velocity ``v`` (body axes), into the rows of ``f``:
-    ``f[0]`` added-mass velocity and fluid-acceleration terms (Eq. 2), ``f[1]`` drag (Eqs. 3-6), ``f[2]``
-    buoyancy and fluid acceleration (Eqs. 7-8), ``f[3]`` gravity. ``scratch[0]`` returns ``nu_r``;
-    ``cylinder`` is the link's row of :attr:`~uvms.dynamics.kernel_model.KernelModel.cylinder`; for a
-    cylinder not along the body x axis from the origin, Eq. 6 is evaluated in the cylinder's frame (in
-    ``scratch[2]``, ``scratch[3]``) and moved back to the body origin. ``fossen`` is the body's row of
-    :attr:`~uvms.dynamics.kernel_model.KernelModel.fossen`: a body with Fossen damping adds
-    :func:`~uvms.hydro.fossen.fossen_damping_force` to its drag (bodies without skip it, so the paper model's
-    arithmetic is unchanged). ``shapes`` is the body's shape drag table (:func:`uvms.hydro.shapes.drag_table`,
-    ``fossen[12, 4]`` real rows): a body with shapes adds :func:`~uvms.hydro.shapes.shapes_drag_force`, with
-    ``scratch[4:6]`` as its work array.
+@block
+def cylinder_drag_force(cylinder, nu_r, out, nu_c, f_c):
+    """Eq. 6's drag of a link's cylinder (``cylinder``: the link's row of
+    :attr:`~uvms.dynamics.kernel_model.KernelModel.cylinder`) into ``out``, body axes about the body origin.
 
-    Takes the body's own arrays (not the whole model) so the call stays cheap inside the compiled loop.
+    A cylinder along the body x axis from the origin is evaluated directly; any other in its own frame (the
+    relative velocity at its origin in ``nu_c``, its force in ``f_c``) and moved back to the body origin."""
+    if cylinder[4, 2] == 0.0:
+        link_drag_force(cylinder[4, 0], cylinder[4, 1], nu_r, out)
+        return
+    cyl_E = cylinder[0:3]
+    cyl_o = cylinder[3]
+    vo0 = nu_r[3] + (nu_r[1] * cyl_o[2] - nu_r[2] * cyl_o[1])
+    vo1 = nu_r[4] + (nu_r[2] * cyl_o[0] - nu_r[0] * cyl_o[2])
+    vo2 = nu_r[5] + (nu_r[0] * cyl_o[1] - nu_r[1] * cyl_o[0])
+    for a in range(3):      # nu_c = [E w; E (v + w x o)], the relative velocity at the cylinder origin
+        nu_c[a] = cyl_E[a, 0] * nu_r[0] + cyl_E[a, 1] * nu_r[1] + cyl_E[a, 2] * nu_r[2]
+        nu_c[3 + a] = cyl_E[a, 0] * vo0 + cyl_E[a, 1] * vo1 + cyl_E[a, 2] * vo2
+    link_drag_force(cylinder[4, 0], cylinder[4, 1], nu_c, f_c)
+    for a in range(3):      # back to body axes: F = E^T F_c, M = E^T M_c + o x F
+        out[a] = cyl_E[0, a] * f_c[0] + cyl_E[1, a] * f_c[1] + cyl_E[2, a] * f_c[2]
+        out[3 + a] = cyl_E[0, a] * f_c[3] + cyl_E[1, a] * f_c[4] + cyl_E[2, a] * f_c[5]
+    out[0] += cyl_o[1] * out[5] - cyl_o[2] * out[4]
+    out[1] += cyl_o[2] * out[3] - cyl_o[0] * out[5]
+    out[2] += cyl_o[0] * out[4] - cyl_o[1] * out[3]
+
+
+@block
+def body_hydro_forces(km, ws, i):
+    """The named forces on body ``i`` at its velocity ``ws.v[i]`` into ``ws.forces[i]`` (slots of
+    :mod:`uvms.dynamics.kernel_model`): ``ADDED_MASS`` (Eq. 2, velocity and fluid-acceleration terms),
+    ``DRAG`` (Eqs. 3-6), ``BUOYANCY`` (buoyancy and fluid acceleration, Eqs. 7-8), ``GRAVITY``; the body's
+    velocity relative to the fluid into ``ws.nu_r[i]``.
+
+    The vehicle's drag is Eqs. 3-5, a link's its cylinder's (:func:`cylinder_drag_force`). A body with Fossen
+    damping (``km.fossen[i, 12, 3] != 0``) adds :func:`~uvms.hydro.fossen.fossen_damping_force` to its drag,
+    a body with shapes (``km.fossen[i, 12, 4]`` rows of ``km.shapes[i]``) adds
+    :func:`~uvms.hydro.shapes.shapes_drag_force`; bodies without skip them (the paper model's arithmetic is
+    unchanged).
     """
-    nu_r = scratch[0]
-    a_fl = scratch[1]
-    relative_velocity(v, vc, nu_r)
-    fluid_acceleration_in_body(v, vc, af, a_fl)
-    added_mass_force(I_A, nu_r, a_fl, f[0])
-    if is_vehicle:
-        vehicle_drag_force(drag_linear, drag_angular, nu_r, f[1])
-    elif cylinder[4, 2] == 0.0:
-        link_drag_force(cylinder[4, 0], cylinder[4, 1], nu_r, f[1])
+    v = ws.v[i]
+    nu_r = ws.nu_r[i]
+    f = ws.forces[i]
+    relative_velocity(v, ws.vc[i], nu_r)
+    fluid_acceleration_in_body(v, ws.vc[i], ws.af[i], ws.a_fluid)
+    added_mass_force(km.added_mass[i], nu_r, ws.a_fluid, f[ADDED_MASS])
+    if i == 0:
+        vehicle_drag_force(km.vehicle_drag_linear, km.vehicle_drag_angular, nu_r, f[DRAG])
     else:
-        cyl_E = cylinder[0:3]
-        cyl_o = cylinder[3]
-        nu_c = scratch[2]
-        f_c = scratch[3]
-        vo0 = nu_r[3] + (nu_r[1] * cyl_o[2] - nu_r[2] * cyl_o[1])
-        vo1 = nu_r[4] + (nu_r[2] * cyl_o[0] - nu_r[0] * cyl_o[2])
-        vo2 = nu_r[5] + (nu_r[0] * cyl_o[1] - nu_r[1] * cyl_o[0])
-        for a in range(3):      # nu_c = [E w; E (v + w x o)], the relative velocity at the cylinder origin
-            nu_c[a] = cyl_E[a, 0] * nu_r[0] + cyl_E[a, 1] * nu_r[1] + cyl_E[a, 2] * nu_r[2]
-            nu_c[3 + a] = cyl_E[a, 0] * vo0 + cyl_E[a, 1] * vo1 + cyl_E[a, 2] * vo2
-        link_drag_force(cylinder[4, 0], cylinder[4, 1], nu_c, f_c)
-        fl = f[1]
-        for a in range(3):      # back to body axes: F = E^T F_c, M = E^T M_c + o x F
-            fl[a] = cyl_E[0, a] * f_c[0] + cyl_E[1, a] * f_c[1] + cyl_E[2, a] * f_c[2]
-            fl[3 + a] = cyl_E[0, a] * f_c[3] + cyl_E[1, a] * f_c[4] + cyl_E[2, a] * f_c[5]
-        fl[0] += cyl_o[1] * fl[5] - cyl_o[2] * fl[4]
-        fl[1] += cyl_o[2] * fl[3] - cyl_o[0] * fl[5]
-        fl[2] += cyl_o[0] * fl[4] - cyl_o[1] * fl[3]
+        cylinder_drag_force(km.cylinder[i], nu_r, f[DRAG], ws.nu_c, ws.f_c)
+    fossen = km.fossen[i]
     if fossen[12, 3] != 0.0:
-        f_d = scratch[2]
-        fossen_damping_force(fossen[0:6], fossen[6:12], fossen[12], nu_r, f_d)
-        fd = f[1]
+        fossen_damping_force(fossen[0:6], fossen[6:12], fossen[12], nu_r, ws.nu_c)
         for k in range(6):
-            fd[k] += f_d[k]
+            f[DRAG, k] += ws.nu_c[k]
     n_shapes = int(fossen[12, 4])
     if n_shapes > 0:
-        f_s = scratch[2]
-        shapes_drag_force(shapes[0:n_shapes], nu_r, f_s, scratch[4:6].reshape(12))
-        fd = f[1]
+        shapes_drag_force(km.shapes[i, 0:n_shapes], nu_r, ws.nu_c, ws.shape_work)
         for k in range(6):
-            fd[k] += f_s[k]
-    buoyancy_force(fluid_mass, cob, g, af, f[2])
-    gravity_force(mass, com, g, f[3])
+            f[DRAG, k] += ws.nu_c[k]
+    buoyancy_force(km.fluid_mass[i], km.cob[i], ws.g[i], ws.af[i], f[BUOYANCY])
+    gravity_force(km.mass[i], km.com[i], ws.g[i], f[GRAVITY])
 
 
-@njit(cache=True, inline="always")
+@block
 def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
-    """Pass 1, base to tip: transforms, velocities, velocity products and bias forces of every body, and each
-    joint's passive torque (damping and friction, :func:`passive_joint_force`) into ``ws.u``.
+    """Pass 1, base to tip: transforms, velocities, velocity products, named hydrodynamic forces
+    (:func:`body_hydro_forces`) and bias forces of every body, and each joint's passive torque (damping and
+    friction, :func:`passive_joint_force`) into ``ws.u``.
 
     ``R0`` is the vehicle's body-to-world rotation, ``nu`` its body velocity ``[omega; v]``,
     ``v_current``/``a_fluid`` the world-frame current velocity and fluid acceleration.
     """
     nb = km.parent.shape[0]
-    h = ws.w6[0]
-    f = ws.f4
-    scratch = ws.w6[1:7]
+    h = ws.h
     for i in range(nb):
         vi = ws.v[i]
+        ci = ws.c[i]
         if i == 0:                               # world vectors in vehicle axes: R^T a_g, R^T v_c, R^T a_f
             for k in range(3):
                 ws.g[0, k] = R0[0, k] * km.gravity[0] + R0[1, k] * km.gravity[1] + R0[2, k] * km.gravity[2]
@@ -171,62 +175,60 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
                 ws.af[0, k] = R0[0, k] * a_fluid[0] + R0[1, k] * a_fluid[1] + R0[2, k] * a_fluid[2]
             for k in range(6):
                 vi[k] = nu[k]
-                ws.c[0, k] = 0.0
+                ci[k] = 0.0
         else:                                    # Xup_i, v_i = Xup_i v_p + S qd_i, c_i = v_i x S qd_i
             p = km.parent[i]
             kind = km.joint_kind[i]
-            joint_transform(km.tree_E[i], km.tree_r[i], kind, km.S[i], q[i - 1] + km.joint[i, 0], ws.E[i], ws.r[i],
-                            ws.Xup[i])
-            mat6_vec(ws.Xup[i], ws.v[p], vi)
+            E = ws.E[i]
+            joint_transform(km.tree_E[i], km.tree_r[i], kind, km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET], E, ws.r[i])
+            transform_motion(E, ws.r[i], ws.v[p], vi)
             w = qd[i - 1]
-            if kind == 0:                        # S = e_z: the DH fast path
-                vi[2] += w
-                ws.c[i, 0] = vi[1] * w
-                ws.c[i, 1] = -vi[0] * w
-                ws.c[i, 2] = 0.0
-                ws.c[i, 3] = vi[4] * w
-                ws.c[i, 4] = -vi[3] * w
-                ws.c[i, 5] = 0.0
+            if kind == JOINT_Z:                  # S = e_z: the DH fast path
+                vi[Z_AXIS] += w
+                ci[0] = vi[1] * w
+                ci[1] = -vi[0] * w
+                ci[2] = 0.0
+                ci[3] = vi[4] * w
+                ci[4] = -vi[3] * w
+                ci[5] = 0.0
             else:
-                Sw = scratch[2]
+                Sw = ws.sw
                 for k in range(6):
                     Sw[k] = km.S[i, k] * w
                     vi[k] += Sw[k]
-                crm_mul(vi, Sw, ws.c[i])
-            mat3_vec(ws.E[i], ws.g[p], ws.g[i])
-            mat3_vec(ws.E[i], ws.vc[p], ws.vc[i])
-            mat3_vec(ws.E[i], ws.af[p], ws.af[i])
+                crm_mul(vi, Sw, ci)
+            mat3_vec(E, ws.g[p], ws.g[i])
+            mat3_vec(E, ws.vc[p], ws.vc[i])
+            mat3_vec(E, ws.af[p], ws.af[i])
         # bias force p_i = v_i x* I_i v_i - f_i^hydro and articulated inertia IA_i = I^H_i
         pA = ws.pA[i]
         mat6_vec(km.inertia[i], vi, h)
         for k in range(6):
             pA[k] = 0.0
         crf_mul_add(vi, h, 1.0, pA)
-        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i],
-                          km.fossen[i], km.shapes[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i],
-                          vi, ws.vc[i], ws.af[i], ws.g[i], f, scratch)
+        body_hydro_forces(km, ws, i)
+        f = ws.forces[i]
         for k in range(6):
-            pA[k] -= f[0, k] + f[1, k] + f[2, k] + f[3, k]
+            pA[k] -= f[ADDED_MASS, k] + f[DRAG, k] + f[BUOYANCY, k] + f[GRAVITY, k]
         IA = ws.IA[i]
         IH = km.inertia_h[i]
         for r in range(6):
             for k in range(6):
                 IA[r, k] = IH[r, k]
     for i in range(1, nb):                       # (a loop of its own: measurably faster than inside the one above)
-        ws.u[i] = passive_joint_force(km.joint[i, 1], km.joint[i, 2], km.joint[i, 3], qd[i - 1])
+        ws.u[i] = passive_joint_force(km.joint[i, DAMPING], km.joint[i, FRICTION], km.joint[i, INV_SPEED], qd[i - 1])
 
 
-@njit(cache=True)
-def apply_external(ee_body, ee_E, ee_r, pA, f_body, f_ee, Xee):
-    """External wrenches into the bias forces ``pA``: ``f_body`` on the vehicle (thrusters, Eq. 11) and
-    ``f_ee`` (spatial force in end-effector axes) on the end effector's body ``b = ee_body``,
-    ``beta_b -= eeX_b^T f_ee`` (Eq. 14). ``Xee`` is a 6x6 scratch matrix."""
-    last = ee_body
+@block
+def apply_external(km, ws, f_body, f_ee):
+    """External wrenches into the bias forces ``ws.pA``: ``f_body`` on the vehicle (thrusters, Eq. 11) and
+    ``f_ee`` (spatial force in end-effector axes) on the end effector's body ``b = km.ee_body``,
+    ``beta_b -= eeX_b^T f_ee`` (Eq. 14), ``eeX_b = plucker(km.ee_E, km.ee_r)``."""
     for k in range(6):
-        pA[0, k] -= f_body[k]
-    plucker(ee_E, ee_r, Xee)
-    for j in range(6):
-        s = 0.0
-        for k in range(6):
-            s += Xee[k, j] * f_ee[k]
-        pA[last, j] -= s
+        ws.pA[0, k] -= f_body[k]
+    f = ws.f_ee
+    for k in range(6):
+        f[k] = 0.0
+    transform_force_add(km.ee_E, km.ee_r, f_ee, f)
+    for k in range(6):
+        ws.pA[km.ee_body, k] -= f[k]

@@ -14,49 +14,51 @@ Given ``nu_dot`` and ``qdd``, the vehicle wrench ``f_0`` and joint torques ``tau
 
 from __future__ import annotations
 
-from numba import njit
+from uvms.dynamics.jit import kernel
 
-from uvms.dynamics.blocks import mat6_vec, mat6T_vec_add
+from uvms.dynamics.blocks import mat6_vec, transform_force_add, transform_motion
+from uvms.dynamics.jit import kernel
+from uvms.dynamics.kernel_model import JOINT_Z, Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass
 
 
-@njit(cache=True)
+@kernel
 def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_out, tau_out):
     """Write the body wrench ``f_body_out`` (6) and joint torques ``tau_out`` (n); ``f_ee`` as in the ABA."""
     nb = km.parent.shape[0]
     outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid)
-    zero = ws.w6[3]
     for k in range(6):
-        zero[k] = 0.0
-    apply_external(km.ee_body, km.ee_E, km.ee_r, ws.pA, zero, f_ee, ws.m6[0])
-    h = ws.w6[0]
+        ws.no_wrench[k] = 0.0
+    apply_external(km, ws, ws.no_wrench, f_ee)
+    h = ws.h
 
     # -- outward: accelerations and body forces f_i = I^H a_i + p_i
     for k in range(6):
         ws.a[0, k] = nu_dot[k]
     for i in range(nb):
+        ai = ws.a[i]
         if i > 0:
-            mat6_vec(ws.Xup[i], ws.a[km.parent[i]], ws.a[i])
+            transform_motion(ws.E[i], ws.r[i], ws.a[km.parent[i]], ai)
             for k in range(6):
-                ws.a[i, k] += ws.c[i, k]
-            if km.joint_kind[i] == 0:           # S = e_z (modified DH)
-                ws.a[i, 2] += qdd[i - 1]
+                ai[k] += ws.c[i, k]
+            if km.joint_kind[i] == JOINT_Z:     # S = e_z (modified DH)
+                ai[Z_AXIS] += qdd[i - 1]
             else:
                 for k in range(6):
-                    ws.a[i, k] += km.S[i, k] * qdd[i - 1]
-        mat6_vec(km.inertia_h[i], ws.a[i], h)
+                    ai[k] += km.S[i, k] * qdd[i - 1]
+        mat6_vec(km.inertia_h[i], ai, h)
         for k in range(6):
             ws.pA[i, k] += h[k]
 
     # -- inward: joint torques, forces handed to the parent
     for i in range(nb - 1, 0, -1):
-        if km.joint_kind[i] == 0:
-            s = ws.pA[i, 2]
+        if km.joint_kind[i] == JOINT_Z:
+            s = ws.pA[i, Z_AXIS]
         else:
             s = 0.0
             for k in range(6):
                 s += km.S[i, k] * ws.pA[i, k]
         tau_out[i - 1] = s - ws.u[i]             # the outward pass left the joint's passive torque in u
-        mat6T_vec_add(ws.Xup[i], ws.pA[i], ws.pA[km.parent[i]])
+        transform_force_add(ws.E[i], ws.r[i], ws.pA[i], ws.pA[km.parent[i]])
     for k in range(6):
         f_body_out[k] = ws.pA[0, k]

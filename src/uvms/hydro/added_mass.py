@@ -11,7 +11,8 @@ axes (see :mod:`uvms.hydro.current`).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from uvms.dynamics.jit import block
 
 
 def cylinder_added_mass(density: float, radius: float, length: float) -> np.ndarray:
@@ -41,7 +42,7 @@ def cylinder_added_mass(density: float, radius: float, length: float) -> np.ndar
     return I_A
 
 
-@njit(cache=True)
+@block
 def added_mass_force(I_A, nu_r, a_fluid, out):
     """``out = I_A a_fluid - (nu_r x*) I_A nu_r``: the added-mass force of Eq. 2 less its ``-I_A a`` part.
 

@@ -8,10 +8,10 @@ by ``R^T``. The paper's vehicle has ``m_f = m`` and ``b`` above the CoM (z down)
 
 from __future__ import annotations
 
-from numba import njit
+from uvms.dynamics.jit import block
 
 
-@njit(cache=True)
+@block
 def point_force(point, f0, f1, f2, out):
     """``out = [point x f; f]``: a force ``f`` applied at ``point`` as a spatial force about the origin."""
     out[0] = point[1] * f2 - point[2] * f1
@@ -22,13 +22,13 @@ def point_force(point, f0, f1, f2, out):
     out[5] = f2
 
 
-@njit(cache=True)
+@block
 def gravity_force(mass, com, gravity_body, out):
     """``out = [r_G x m a_g; m a_g]``: weight at the centre of mass."""
     point_force(com, mass * gravity_body[0], mass * gravity_body[1], mass * gravity_body[2], out)
 
 
-@njit(cache=True)
+@block
 def buoyancy_force(fluid_mass, cob, gravity_body, a_fluid_body, out):
     """``out = [b x f_TB; f_TB]``, ``f_TB = m_f (a_f - a_g)`` (Eqs. 7-8): buoyancy plus fluid acceleration."""
     point_force(cob, fluid_mass * (a_fluid_body[0] - gravity_body[0]),

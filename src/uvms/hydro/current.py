@@ -9,10 +9,10 @@ fluid is the same as in still water (Galilean invariance; tested in ``tests/hydr
 
 from __future__ import annotations
 
-from numba import njit
+from uvms.dynamics.jit import block
 
 
-@njit(cache=True)
+@block
 def relative_velocity(nu, v_current_body, out):
     """``out = nu - [0; v_c]``: body velocity relative to the fluid, body axes, ``[angular; linear]``."""
     for k in range(3):
@@ -20,7 +20,7 @@ def relative_velocity(nu, v_current_body, out):
         out[3 + k] = nu[3 + k] - v_current_body[k]
 
 
-@njit(cache=True)
+@block
 def fluid_acceleration_in_body(omega, v_current_body, a_fluid_body, out):
     """``out = [0; R^T a_f - omega x R^T v_c]``: the fluid's acceleration as seen in body axes."""
     out[0] = 0.0

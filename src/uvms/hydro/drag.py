@@ -25,7 +25,8 @@ reference, ``tests/hydro/test_added_mass_drag.py``).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from uvms.dynamics.jit import block
 
 GAUSS_POINTS = 8
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(GAUSS_POINTS)
@@ -64,7 +65,7 @@ def box_rotational_drag_by_strips(density: float, drag_coefficient: float, side:
     return float(2 * np.sum(x * dF))
 
 
-@njit(cache=True)
+@block
 def vehicle_drag_force(k_linear, k_angular, nu_r, out):
     """``out`` = Eq. 5's ``[M_1..3; F_4..6]`` with ``k_linear = 0.5 rho A Cd`` and ``k_angular = rho Cd a^5/32``."""
     for j in range(3):
@@ -74,7 +75,7 @@ def vehicle_drag_force(k_linear, k_angular, nu_r, out):
         out[3 + j] = -k_linear[j] * v * abs(v)
 
 
-@njit(cache=True)
+@block
 def link_drag_force(k, length, nu_r, out):
     """``out`` = Eq. 6's ``[M; F]`` about the joint, ``k = 0.5 rho Cd 2r`` per unit length."""
     for j in range(6):

@@ -40,8 +40,8 @@ import re
 from typing import Mapping
 
 import numpy as np
-from numba import njit
 
+from uvms.dynamics.jit import block
 from uvms.errors import UvmsInputError, show
 
 FORCE_INDEX = {"K": 0, "M": 1, "N": 2, "X": 3, "Y": 4, "Z": 5}
@@ -127,7 +127,7 @@ def diagonal_damping(linear=None, quadratic=None) -> tuple[np.ndarray, np.ndarra
     return out[0], out[1]
 
 
-@njit(cache=True)
+@block
 def fossen_damping_force(D_l, D_q, point, nu_r, out):
     """``out`` = ``[m; f]`` about the body origin, body axes, of ``f_p = -(D_l + D_q diag|nu_p|) nu_p``.
 

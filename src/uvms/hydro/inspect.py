@@ -9,7 +9,11 @@ For each body (vehicle, links), in its own axes about its frame origin, ``[momen
 - ``buoyancy``: ``-m_f a_g`` at the centre of buoyancy (Eqs. 7-8)
 - ``gravity``: ``m a_g`` at the centre of mass
 
-Uses the same compiled per-effect functions as the dynamics, so what you see is what is integrated.
+A read-out of one evaluation of the articulated-body algorithm (:func:`uvms.dynamics.aba.aba`): its outward pass
+keeps each body's named forces (``Workspace.forces``, slots of :mod:`uvms.dynamics.kernel_model`) and relative
+velocity, its last pass each body's acceleration; what you see is what is integrated. The fluid-acceleration
+parts (``I_A [0; a_f]`` and ``m_f a_f`` at the centre of buoyancy, ``a_f`` the world fluid acceleration in body
+axes) are taken out of the added-mass and buoyancy slots.
 """
 
 from __future__ import annotations
@@ -19,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from uvms import checks
-from uvms.dynamics.api import environment, forward_dynamics
-from uvms.dynamics.kernel_model import make_workspace
-from uvms.dynamics.passes import body_hydro_forces, outward_pass
+from uvms.dynamics.aba import aba
+from uvms.dynamics.api import environment
+from uvms.dynamics.kernel_model import ADDED_MASS, BUOYANCY, DRAG, GRAVITY, make_workspace
 
 CAUSES = ("added_mass_velocity", "added_mass_inertial", "fluid_acceleration", "drag", "buoyancy", "gravity")
 
@@ -57,41 +61,34 @@ def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None,
     """Each body's wrench by cause at ``state`` (see the module docstring)."""
     checks.state(model, state)
     fixed_base = checks.flag(fixed_base, "fixed_base")
-    nb = model.n_bodies
-    km = model.kernel
-    ws = make_workspace(nb)
+    n = model.n_joints
+    nu = np.array(state.nu, dtype=float)
+    if fixed_base and np.any(nu != 0.0):
+        raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does not "
+                                        "move")
+    tau = checks.optional_vector(joint_torques, n, "joint_torques", " (one per joint)")
+    f_body = checks.optional_vector(body_wrench, 6, "body_wrench", " [moment; force]")
     env = environment(model, current, fluid_acceleration)
-    nu = np.zeros(6) if fixed_base else np.array(state.nu, dtype=float)
-    outward_pass(km, ws, state.rotation, nu, np.array(state.q, dtype=float), np.array(state.qd, dtype=float),
-                 env.current, env.fluid_acceleration)
-    acc = forward_dynamics(model, state, joint_torques=joint_torques, body_wrench=body_wrench, current=current,
-                           fluid_acceleration=fluid_acceleration, fixed_base=fixed_base)
-    # body accelerations from the ABA's joint accelerations (outward, as in the RNEA)
-    a = np.zeros((nb, 6))
-    a[0] = acc.nu_dot
-    for i in range(1, nb):
-        a[i] = ws.Xup[i] @ a[km.parent[i]] + ws.c[i]
-        a[i] += km.S[i] * acc.qdd[i - 1]
-    out = {c: np.zeros((nb, 6)) for c in CAUSES}
-    rel = np.zeros((nb, 6))
-    f = np.zeros((4, 6))
-    scratch = np.zeros((6, 6))
-    zero3 = np.zeros(3)
-
-    def forces(i, af):
-        body_hydro_forces(km.added_mass[i], km.vehicle_drag_linear, km.vehicle_drag_angular, km.cylinder[i],
-                          km.fossen[i], km.shapes[i], i == 0, km.mass[i], km.com[i], km.fluid_mass[i], km.cob[i],
-                          ws.v[i], ws.vc[i], af, ws.g[i], f, scratch)
-
-    for i in range(nb):
-        # velocity terms alone (no fluid acceleration), then the fluid-acceleration part as the difference
-        forces(i, zero3)
-        out["added_mass_velocity"][i] = f[0]
-        out["drag"][i] = f[1]
-        out["buoyancy"][i] = f[2]
-        out["gravity"][i] = f[3]
-        rel[i] = scratch[0]
-        forces(i, ws.af[i])
-        out["fluid_acceleration"][i] = (f[0] - out["added_mass_velocity"][i]) + (f[2] - out["buoyancy"][i])
-        out["added_mass_inertial"][i] = -km.added_mass[i] @ a[i]
-    return HydrodynamicWrenches(body_names=model.body_names, wrenches=out, relative_velocity=rel)
+    km = model.kernel
+    ws = make_workspace(model.n_bodies)
+    nu_dot, qdd = np.zeros(6), np.zeros(n)
+    aba(km, ws, state.rotation, nu, np.array(state.q, dtype=float), np.array(state.qd, dtype=float), tau, f_body,
+        np.zeros(6), env.current, env.fluid_acceleration, fixed_base, nu_dot, qdd)
+    if not checks.finite(nu_dot, qdd):
+        raise checks.overflow("the accelerations", {"state.nu": nu, "state.qd": state.qd, "joint_torques": tau,
+                                                    "body_wrench": f_body, "current": env.current,
+                                                    "fluid_acceleration": env.fluid_acceleration})
+    f = ws.forces
+    added_mass_fluid = np.einsum("ijk,ik->ij", km.added_mass[:, :, 3:], ws.af)       # I_A [0; a_f]
+    buoyancy_fluid = np.zeros((model.n_bodies, 6))                                    # m_f a_f at b
+    buoyancy_fluid[:, 3:] = km.fluid_mass[:, None] * ws.af
+    buoyancy_fluid[:, :3] = np.cross(km.cob, buoyancy_fluid[:, 3:])
+    out = {
+        "added_mass_velocity": f[:, ADDED_MASS] - added_mass_fluid,
+        "added_mass_inertial": -np.einsum("ijk,ik->ij", km.added_mass, ws.a),
+        "fluid_acceleration": added_mass_fluid + buoyancy_fluid,
+        "drag": f[:, DRAG].copy(),
+        "buoyancy": f[:, BUOYANCY] - buoyancy_fluid,
+        "gravity": f[:, GRAVITY].copy(),
+    }
+    return HydrodynamicWrenches(body_names=model.body_names, wrenches=out, relative_velocity=ws.nu_r.copy())

@@ -48,8 +48,8 @@ from dataclasses import dataclass, field
 from typing import Sequence, Union
 
 import numpy as np
-from numba import njit
 
+from uvms.dynamics.jit import block, kernel
 from uvms.hydro.added_mass import cylinder_added_mass
 from uvms.hydro.drag import link_drag_force
 from uvms.spatial import plucker_from_pose
@@ -485,12 +485,12 @@ def drag_workspace() -> np.ndarray:
     return np.zeros(WORK_SIZE)
 
 
-@njit(cache=True, inline="always")
+@block
 def _g(v):
     return v * abs(v)
 
 
-@njit(cache=True)
+@kernel
 def rectangle_drag_integrals(c, alpha, beta, u0, u1, w0, w1):
     """``(I, I_u, I_w)`` = integrals over ``[u0,u1] x [w0,w1]`` of ``g``, ``u g``, ``w g``, ``g = v |v|``,
     ``v = c + alpha u + beta w`` (the normal velocity over a flat face, linear in the face coordinates).
@@ -554,7 +554,7 @@ def rectangle_drag_integrals(c, alpha, beta, u0, u1, w0, w1):
     return I, Iu, Iw
 
 
-@njit(cache=True)
+@kernel
 def _ellipsoid_crossflow(a, b, c, k, vy0, dy, vz0, dz):
     """Cross-flow drag of strips along x of an ellipsoid, ``(F_y, F_z, M_y, M_z)`` about its centre.
 
@@ -600,7 +600,7 @@ def _ellipsoid_crossflow(a, b, c, k, vy0, dy, vz0, dz):
     return -k * sy, -k * sz, k * szs, -k * sys_
 
 
-@njit(cache=True)
+@kernel
 def shapes_drag_force(table, nu_r, out, work):
     """``out`` = the summed quadratic drag ``[moment; force]`` of every shape in ``table`` (body axes, about
     the body origin) at the body velocity ``nu_r`` relative to the fluid; ``work``: :func:`drag_workspace`.

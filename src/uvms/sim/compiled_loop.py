@@ -190,7 +190,7 @@ def compilable(plan) -> bool:
     source = plan.arm.source
     arm_ok = source is None or isinstance(source, (np.ndarray, TorqueSchedule)) or hasattr(source, "compiled")
     return plan.integrator.name == "rk4" and arm_ok and (plan.controller is None or
-                                                         hasattr(plan.controller, "compiled"))
+                                                         getattr(plan.controller, "compiled_update", False))
 
 
 class CompiledRun(NamedTuple):
@@ -204,8 +204,9 @@ class CompiledRun(NamedTuple):
     signal_names: tuple
 
 
-def compiled_run(plan) -> CompiledRun:
-    """Build the compiled controller, arm and allocation of ``plan`` (:func:`compilable` must hold)."""
+def compiled_run(plan, n_updates: int | None = None) -> CompiledRun:
+    """Build the compiled controller, arm and allocation of ``plan`` (:func:`compilable` must hold);
+    ``n_updates`` bounds the controller's updates (default: the run's; it sizes a noisy IMU's noise table)."""
     from uvms.control.arm import constant_arm, schedule_arm
     from uvms.control.kernels import no_controller
     from uvms.sim.inputs import TorqueSchedule
@@ -228,7 +229,7 @@ def compiled_run(plan) -> CompiledRun:
     else:
         if hasattr(plan.controller, "reset"):
             plan.controller.reset()
-        controller = plan.controller.compiled(timing.n_total // plan.control_every + 2)
+        controller = plan.controller.compiled(n_updates or timing.n_total // plan.control_every + 2)
         names = tuple(plan.controller.signal_names) + COMMAND_NAMES + tuple(thrust_command_names(plan.thrusters))
     m = len(plan.thrusters)
     control = Control(controller=controller, arm=arm, allocation=thrust_command(plan.thrusters),

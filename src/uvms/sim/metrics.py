@@ -46,7 +46,7 @@ def paper_bandwidth() -> float:
     :class:`~uvms.control.smc.SlidingModeParameters` (its one definition)."""
     from uvms.control.smc import SlidingModeParameters
 
-    return float(SlidingModeParameters().bandwidth)
+    return float(SlidingModeParameters().bandwidth[0])    # the same on every paper axis
 
 
 def sign_changes(values: np.ndarray, relative_tolerance: float = 1e-6) -> int:

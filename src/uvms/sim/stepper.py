@@ -19,6 +19,11 @@ from uvms.sim.plan import MAX_STEPS, RunPlan, Timing
 from uvms.state import State
 
 
+HORIZON = 3600.0
+"""Simulated seconds between two resets that a controller with a pre-drawn noise table (``smc-ne`` with a noisy
+IMU) is built for; beyond it the controller stops with an error (reset or build a new simulator)."""
+
+
 class Simulator:
     """A plant (and optionally a bundled controller and arm input) advanced step by step.
 
@@ -79,7 +84,8 @@ class Simulator:
         plan.held.command[:] = 0.0
         plan.held.joint_torques[:] = 0.0
         plan.timing = self._timing
-        run = compiled_run(plan)
+        period = getattr(plan.controller, "period", None) or 0.01
+        run = compiled_run(plan, n_updates=int(HORIZON / period) + 2)
         self._run = run._replace(schedule=run.schedule._replace(n_total=MAX_STEPS))
         from uvms.sim.compiled_loop import _new_loop
 

@@ -1,0 +1,29 @@
+"""The compile options of every dynamics and hydrodynamics kernel (one place, so they cannot drift apart).
+
+- ``cache=True``: compiled once, loaded from disk by later processes.
+- ``_nrt=False``: no reference counting. The kernels never allocate; they only read and write arrays their
+  caller owns. With numba's reference counting on, every array taken out of a named tuple or sliced out of a
+  workspace (``ws.IA[i]``) costs an atomic increment and decrement, and the ~40 arrays of the model and
+  workspace are counted again on every call: measured on the paper model, the articulated-body algorithm took
+  2.5 us with it and 1.5 us without (``benchmarks/bench_dynamics.py --only compiled``). A kernel that needs to
+  allocate (``crba_alloc``, ``end_effector_path``) uses plain ``njit``.
+- ``error_model="numpy"``: a division by zero gives ``inf``/``nan`` (caught by the callers' finiteness checks)
+  instead of a branch to a ``ZeroDivisionError`` after every division; results of finite arithmetic are the
+  same.
+- no ``fastmath``: NaN and infinity must propagate to the finiteness checks unchanged.
+
+``kernel`` compiles a function of its own; ``block`` a small helper inlined into its callers (numba-level
+inlining, for the spatial-algebra and per-effect helpers called once per body).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+OPTIONS = {"cache": True, "_nrt": False, "error_model": "numpy"}
+
+kernel = njit(**OPTIONS)
+"""Decorator of a compiled kernel (see the module docstring)."""
+
+block = njit(inline="always", **OPTIONS)
+"""Decorator of a small compiled helper inlined into every kernel that calls it."""
