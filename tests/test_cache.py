@@ -55,6 +55,7 @@ def test_the_first_compile_notice_is_said_once_and_only_on_a_cold_cache(tmp_path
 
     said = []
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    _cache.set_compile_notice(None)                                 # (a CLI test of this process may have set one)
     assert _cache.announce_compile() is False                      # no writer set: library use
     _cache.set_compile_notice(said.append)
     assert _cache.announce_compile() is True and _cache.announce_compile() is False

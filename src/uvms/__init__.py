@@ -48,6 +48,7 @@ _EXPORTS = {
     "Trial": "uvms.sim.batch",
     "Batch": "uvms.sim.batch",
     "Simulator": "uvms.sim.stepper",
+    "BatchSimulator": "uvms.sim.batch_stepper",
     "Dynamics": "uvms.dynamics.api",
     "Result": "uvms.sim.result",
     "TorqueSchedule": "uvms.sim.inputs",

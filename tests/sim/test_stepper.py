@@ -44,6 +44,16 @@ def test_reset_replays_and_inputs_are_held(paper):
         np.testing.assert_allclose(pack(state), run.states[-1], rtol=0, atol=1e-12)
 
 
+def test_new_joint_torques_apply_from_the_call_that_gives_them(paper):
+    sim = uvms.Simulator(paper, step=1e-3)
+    sim.step(0.05, joint_torques=[0.0, 0.0, 0.0])
+    state = sim.step(0.05, joint_torques=[2.0, 0.0, 0.0])
+    schedule = uvms.TorqueSchedule(times=np.array([0.0, 0.05]), torques=np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]]))
+    run = uvms.simulate(paper, duration=0.1, joint_torques=schedule)
+    assert abs(state.qd[0]) > 1e-3
+    np.testing.assert_allclose(pack(state), run.states[-1], rtol=0, atol=1e-12)
+
+
 def test_reset_to_a_given_state(paper):
     start = uvms.State.from_euler(paper, euler=[0.1, 0.0, 0.0], q=[0.2, -0.1, 0.0])
     sim = uvms.Simulator(paper)

@@ -93,13 +93,13 @@ class BatchSimulator:
         self.members = [Simulator(model, initial[k], step=self.h, controller=controller, actuation=actuation,
                                   inputs=per_member[k]) for k in range(self.n)]
         first = self.members[0]
-        self.size = first._plan.x.size
-        self.n_command = first._plan.held.command.size
+        self.size = first.x.size
+        self.n_command = first.command_size
         self.has_controller = controller is not None
-        self._loops = List([m._loop for m in self.members])
+        self._loops = List([m.loop for m in self.members])
         self.done = np.zeros(self.n, dtype=np.int64)
         self.codes = np.zeros(self.n, dtype=np.int64)
-        self.x = np.stack([m._plan.x for m in self.members])
+        self.x = np.stack([m.x for m in self.members])
         self._all = np.ones(self.n, dtype=np.bool_)
         threads = (os.cpu_count() or 1) if threads is None else checks.count(threads, "threads", minimum=1)
         self.threads = min(threads, self.n)
@@ -135,10 +135,10 @@ class BatchSimulator:
         else:
             self.members[k].reset(state)
         member = self.members[k]
-        self._loops[k] = member._loop
+        self._loops[k] = member.loop
         self.done[k] = 0
         self.codes[k] = 0
-        self.x[k] = member._plan.x
+        self.x[k] = member.x
         return self.x[k]
 
     def step(self, duration: float, *, commands=None, body_wrenches=None) -> np.ndarray:

@@ -63,6 +63,26 @@ class Simulator:
         return self._done * self._timing.h
 
     @property
+    def loop(self):
+        """The compiled loop (:class:`uvms.sim.compiled_loop.Loop`) that :meth:`step` advances."""
+        return self._loop
+
+    @property
+    def x(self) -> np.ndarray:
+        """The state vector being integrated (live: :meth:`step` advances it in place)."""
+        return self._plan.x
+
+    @property
+    def command_size(self) -> int:
+        """Entries of the held actuator command (``max(thrusters, 6)``: the body wrench without thrusters)."""
+        return self._plan.held.command.size
+
+    @property
+    def steps_done(self) -> int:
+        """Global steps since the last :meth:`reset`."""
+        return self._done
+
+    @property
     def state(self) -> State:
         """The current state (a copy)."""
         return unpack(self._plan.x, self.model.n_joints)
@@ -107,8 +127,9 @@ class Simulator:
         if joint_torques is not None:
             if not self._own_torques:
                 raise checks.fail("joint_torques", "the simulator has its own arm input (inputs.joint_torques)")
-            self._run.control.arm.constant[:] = checks.vector(joint_torques, self.model.n_joints, "joint_torques",
-                                                             " (one per joint)")
+            tau = checks.vector(joint_torques, self.model.n_joints, "joint_torques", " (one per joint)")
+            self._run.control.arm.constant[:] = tau        # what the arm holds at its next event
+            plan.held.joint_torques[:] = tau               # and from now on
         if body_wrench is not None:
             plan.held.body_wrench[:] = checks.vector(body_wrench, 6, "body_wrench", " [moment; force]")
         if ee_wrench is not None:
