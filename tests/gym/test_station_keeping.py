@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-gymnasium = pytest.importorskip("gymnasium")
+import gymnasium  # noqa: E402  (the test extra installs it: these tests always run)
 
 import uvms  # noqa: E402
 import uvms.gym  # noqa: E402,F401  (registers the environments)
