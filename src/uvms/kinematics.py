@@ -83,6 +83,15 @@ def quaternion_to_rotation(qw, qx, qy, qz, R):
 
 
 @kernel
+def normalised_rotation(quaternion, R):
+    """Body-to-world ``R`` of a quaternion ``[w, x, y, z]`` normalised by ``s = 1 / |q|`` (the arithmetic of
+    :meth:`uvms.state.State.rotation`): the one compiled copy for the plant, the controllers and the arm."""
+    qw, qx, qy, qz = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
+    s = 1.0 / np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+    quaternion_to_rotation(qw * s, qx * s, qy * s, qz * s, R)
+
+
+@kernel
 def link_poses(km, R0, p0, q, R_out, p_out, E, r):
     """World pose of every body (``R_out[i]`` body-to-world, ``p_out[i]`` origin) and, at index ``nb``,
     of the end effector. ``R_out``/``p_out`` have ``nb + 1`` rows; ``E`` (3x3) and ``r`` (3) are scratch."""

@@ -150,19 +150,13 @@ def plant_effective_inertia(model, result, *, every: int = 50) -> dict[str, list
     """Range over a run of the plant's effective surge/sway mass and yaw inertia, ``1 / (IA_0^-1)_jj`` with
     ``IA_0`` the articulated inertia of the whole system at the vehicle (arm and added mass included): the
     quantity the paper's ``b`` bounds (Eqs. 27-29) must contain."""
-    from uvms.control.smc import effective_inertia
-    from uvms.dynamics.plant import forward_into, model_data
-    from uvms.rotations import rotation_from_quaternion
+    from uvms.dynamics.api import Dynamics
 
-    n = model.n_joints
-    md = model_data(model)
-    nu_dot, qdd, zero6, zero3 = np.zeros(6), np.zeros(n), np.zeros(6), np.zeros(3)
+    dynamics = Dynamics(model)
     values = []
     for k in range(0, len(result.time), every):
-        st = result.state(k)
-        forward_into(md, rotation_from_quaternion(st.quaternion), st.nu.copy(), st.q.copy(), st.qd.copy(),
-                     np.zeros(n), zero6, zero6, zero3, zero3, False, nu_dot, qdd)
-        values.append(effective_inertia(md.work.IA[0].copy()))   # the whole system's inertia at the vehicle
+        inverse = np.linalg.inv(dynamics.vehicle_articulated_inertia(result.state(k)))
+        values.append([1.0 / inverse[j, j] for j in (3, 4, 2)])     # X (surge), Y (sway), N (yaw) of [K M N X Y Z]
     v = np.array(values)
     return {axis: [float(v[:, j].min()), float(v[:, j].max())] for j, axis in enumerate(AXES)}
 

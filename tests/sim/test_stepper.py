@@ -54,6 +54,15 @@ def test_new_joint_torques_apply_from_the_call_that_gives_them(paper):
     np.testing.assert_allclose(pack(state), run.states[-1], rtol=0, atol=1e-12)
 
 
+def test_a_torque_schedule_changes_at_its_breakpoint_between_calls(paper):
+    """Without a controller the arm's schedule still switches at its breakpoint (2 s), inside a call."""
+    sim = uvms.Simulator(paper, step=1e-3, inputs=uvms.Inputs(joint_torques=paper_torques()))
+    for _ in range(7):
+        state = sim.step(0.35)
+    run = uvms.simulate(paper, duration=2.45, step=1e-3, joint_torques=paper_torques())
+    np.testing.assert_allclose(pack(state), run.states[-1], rtol=0, atol=1e-12)
+
+
 def test_reset_to_a_given_state(paper):
     start = uvms.State.from_euler(paper, euler=[0.1, 0.0, 0.0], q=[0.2, -0.1, 0.0])
     sim = uvms.Simulator(paper)

@@ -31,6 +31,7 @@ from numba import njit
 
 from uvms.dynamics.plant import ModelData, inverse_into, model_data
 from uvms.errors import UvmsInputError
+from uvms.kinematics import normalised_rotation
 
 CONSTANT, SCHEDULE, COMPUTED_TORQUE, PD = 0, 1, 2, 3
 """Kinds of :class:`ArmData`."""
@@ -284,23 +285,6 @@ def desired_motion(times, angles, breaks, coefficients, t, q_d, qd_d, qdd_d):
 
 
 @njit(cache=True, nogil=True)
-def _rotation(quaternion, R):
-    """Body-to-world ``R`` of a quaternion normalised by ``s = 1 / |q|`` (:meth:`uvms.state.State.rotation`)."""
-    qw, qx, qy, qz = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
-    s = 1.0 / np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-    w, x, y, z = qw * s, qx * s, qy * s, qz * s
-    R[0, 0] = 1 - 2 * (y * y + z * z)
-    R[0, 1] = 2 * (x * y - w * z)
-    R[0, 2] = 2 * (x * z + w * y)
-    R[1, 0] = 2 * (x * y + w * z)
-    R[1, 1] = 1 - 2 * (x * x + z * z)
-    R[1, 2] = 2 * (y * z - w * x)
-    R[2, 0] = 2 * (x * z - w * y)
-    R[2, 1] = 2 * (y * z + w * x)
-    R[2, 2] = 1 - 2 * (x * x + y * y)
-
-
-@njit(cache=True, nogil=True)
 def arm_torques(arm, t, x, tau):
     """The joint torques ``tau`` (n,) [N m] at time ``t`` [s] for the state vector ``x``
     (:mod:`uvms.sim.integrate` layout)::
@@ -337,6 +321,6 @@ def arm_torques(arm, t, x, tau):
         arm.qdd_ref[j] = qdd_d[j] + arm.kd[j] * (qd_d[j] - qd[j]) + arm.kp[j] * (q_d[j] - q[j])
     for j in range(6):
         arm.nu[j] = x[7 + j] if arm.moving_base else 0.0
-    _rotation(x[3:7], arm.R)
+    normalised_rotation(x[3:7], arm.R)
     inverse_into(arm.model, arm.R, arm.nu, q, qd, arm.zero6, arm.qdd_ref, arm.zero6, arm.current,
                  arm.fluid_acceleration, arm.f0, tau)

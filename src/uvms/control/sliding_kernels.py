@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
-from uvms.kinematics import quaternion_to_rotation
+from uvms.kinematics import normalised_rotation, quaternion_to_rotation
 from uvms.rotations import euler_zyx
 
 ERROR, ERROR_RATE, VELOCITY, ERROR3, RATE3, OMEGA, EULER = range(7)
@@ -54,17 +54,9 @@ POSITION, ANGULAR = 3, 4
 @njit(cache=True, nogil=True)
 def euler_of_quaternion(qw, qx, qy, qz):
     """ZYX Euler angles of a quaternion, with the arithmetic of :meth:`uvms.state.State.euler` (normalised by
-    ``s = 1 / |q|`` and rotated as :func:`uvms.rotations.rotation_from_quaternion`)."""
-    s = 1.0 / math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-    w, x, y, z = qw * s, qx * s, qy * s, qz * s
+    ``s = 1 / |q|``, :func:`uvms.kinematics.normalised_rotation`)."""
     R = np.empty((3, 3))
-    R[0, 1] = 2 * (x * y - w * z)
-    R[0, 2] = 2 * (x * z + w * y)
-    R[1, 1] = 1 - 2 * (x * x + z * z)
-    R[1, 2] = 2 * (y * z - w * x)
-    R[2, 0] = 2 * (x * z - w * y)
-    R[2, 1] = 2 * (y * z + w * x)
-    R[2, 2] = 1 - 2 * (x * x + y * y)
+    normalised_rotation(np.array([qw, qx, qy, qz]), R)
     return euler_zyx(R)
 
 

@@ -31,7 +31,7 @@ from uvms.dynamics.aba import aba
 from uvms.dynamics.crba import crba
 from uvms.dynamics.kernel_model import KernelModel, Workspace, make_workspace
 from uvms.dynamics.rnea import rnea
-from uvms.kinematics import quaternion_to_rotation
+from uvms.kinematics import normalised_rotation
 
 DEFAULT_BOUNDS = np.array([1e4, 1e3, 1e3, 1e6])
 """Sane-state limits for divergence detection: |position| [m], |nu| [rad/s, m/s], |qd| [rad/s], |actuator|."""
@@ -176,9 +176,7 @@ def mass_matrix_into(md, q, M):
 @njit(cache=True)
 def _rotation(plant, quaternion):
     R = plant.scratch.R
-    qw, qx, qy, qz = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
-    s = 1.0 / np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-    quaternion_to_rotation(qw * s, qx * s, qy * s, qz * s, R)
+    normalised_rotation(quaternion, R)
     return R
 
 

@@ -20,8 +20,9 @@ from uvms.state import State
 
 
 HORIZON = 3600.0
-"""Simulated seconds between two resets that a controller with a pre-drawn noise table (``smc-ne`` with a noisy
-IMU) is built for; beyond it the controller stops with an error (reset or build a new simulator)."""
+"""Simulated seconds between two resets that a simulator is laid out for: a torque schedule's breakpoints
+beyond it are ignored, and a controller with a pre-drawn noise table (``smc-ne`` with a noisy IMU) stops with
+an error beyond it (reset, or build a new simulator)."""
 
 
 class Simulator:
@@ -46,9 +47,9 @@ class Simulator:
         self._own_torques = inputs.joint_torques is None
         if self._own_torques:
             inputs = Inputs(**{**inputs.__dict__, "joint_torques": np.zeros(model.n_joints)})
-        timing = Timing.of(step, step)
+        timing = Timing.of(HORIZON, step)          # events (schedule breakpoints) laid out over the horizon
         self._plan = plan = RunPlan.build(model, state, timing, (controller, actuation),
-                                          grouped(inputs, "rk4", None, {"record_period": step}))
+                                          grouped(inputs, "rk4", None, {"record_period": HORIZON}))
         if not compilable(plan):
             raise checks.fail("controller", "expected a bundled controller and arm input (compiled) for the step API")
         self._timing = Timing(duration=MAX_STEPS * timing.h, h=timing.h, n_total=MAX_STEPS)
@@ -100,12 +101,9 @@ class Simulator:
             if x.size != plan.x.size:           # actuator states: the layout's, zero unless given
                 x = np.concatenate([x[:plan.layout.actuator.start], np.zeros(plan.layout.n_actuator)])
             plan.x[:] = x
-        plan.plant  # the plant keeps no memory between calls
         plan.held.command[:] = 0.0
         plan.held.joint_torques[:] = 0.0
-        plan.timing = self._timing
-        period = getattr(plan.controller, "period", None) or 0.01
-        run = compiled_run(plan, n_updates=int(HORIZON / period) + 2)
+        run = compiled_run(plan)                   # the controller sized for the horizon's updates
         self._run = run._replace(schedule=run.schedule._replace(n_total=MAX_STEPS))
         from uvms.sim.compiled_loop import _new_loop
 

@@ -128,6 +128,28 @@ def _face_solve(A, w, x, side, eps):
     return np.linalg.lstsq(M, rhs, rcond=1e-10)[0]
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _ratio_test(z, x, side, lower, upper):
+    """The active-set step from ``x`` towards the face solution ``z`` (free thrusters, in order): the largest
+    fraction ``alpha <= 1`` that keeps every free thrust within its limits, the thruster that blocks it (-1:
+    none) and the limit it meets (-1 lower, +1 upper)."""
+    alpha, block, block_side = 1.0, -1, 0
+    c = 0
+    for i in range(x.shape[0]):
+        if side[i] == 0:
+            d = z[c] - x[i]
+            if d < 0.0 and z[c] < lower[i]:
+                step = (lower[i] - x[i]) / d
+                if step < alpha:
+                    alpha, block, block_side = step, i, -1
+            elif d > 0.0 and z[c] > upper[i]:
+                step = (upper[i] - x[i]) / d
+                if step < alpha:
+                    alpha, block, block_side = step, i, 1
+            c += 1
+    return alpha, block, block_side
+
+
 @njit(cache=True, nogil=True)
 def bounded_least_squares(A, w, lower, upper, eps, redundant, x, side):
     """``x`` (m,): within ``[lower, upper]``, minimising ``|A x - w|`` and then ``|x|`` (module docstring).
@@ -146,22 +168,7 @@ def bounded_least_squares(A, w, lower, upper, eps, redundant, x, side):
             side[i] = 0
     for _ in range(10 * m + 20):
         z = _face_solve(A, w, x, side, eps)
-        alpha = 1.0
-        block = -1
-        block_side = 0
-        c = 0
-        for i in range(m):
-            if side[i] == 0:
-                d = z[c] - x[i]
-                if d < 0.0 and z[c] < lower[i]:
-                    a = (lower[i] - x[i]) / d
-                    if a < alpha:
-                        alpha, block, block_side = a, i, -1
-                elif d > 0.0 and z[c] > upper[i]:
-                    a = (upper[i] - x[i]) / d
-                    if a < alpha:
-                        alpha, block, block_side = a, i, 1
-                c += 1
+        alpha, block, block_side = _ratio_test(z, x, side, lower, upper)
         c = 0
         for i in range(m):
             if side[i] == 0:
@@ -226,20 +233,7 @@ def minimum_norm_refinement(A, lower, upper, x, side):
     frozen = np.zeros(m, dtype=np.bool_)          # released without progress: not released again until a step
     for _ in range(10 * m + 20):
         z = _face_solve(A, a, x, side, 0.0)
-        alpha, block, block_side = 1.0, -1, 0
-        c = 0
-        for i in range(m):
-            if side[i] == 0:
-                d = z[c] - x[i]
-                if d < 0.0 and z[c] < lower[i]:
-                    step = (lower[i] - x[i]) / d
-                    if step < alpha:
-                        alpha, block, block_side = step, i, -1
-                elif d > 0.0 and z[c] > upper[i]:
-                    step = (upper[i] - x[i]) / d
-                    if step < alpha:
-                        alpha, block, block_side = step, i, 1
-                c += 1
+        alpha, block, block_side = _ratio_test(z, x, side, lower, upper)
         alpha = max(alpha, 0.0)
         moved = False
         c = 0
