@@ -29,6 +29,7 @@ from pydantic import (
     Discriminator,
     Field,
     Tag,
+    Strict,
     ValidationError,
     field_validator,
     model_validator,
@@ -109,7 +110,7 @@ class InitialStateSpec(Spec):
     nu: Vec6 = ZERO6                              # body velocity [p q r u v w] [rad/s, m/s]
     q: Vector | None = None                       # joint angles (n) [rad]
     qd: Vector | None = None                      # joint rates (n) [rad/s]
-    trimmed: bool = False                         # roll and pitch: the rest attitude with the arm at q
+    trimmed: Annotated[bool, Strict()] = False    # roll and pitch: the rest attitude with the arm at q
 
     @model_validator(mode="after")
     def _trimmed_yaw_only(self) -> InitialStateSpec:
