@@ -1,7 +1,7 @@
 """``uvms compare``: the station-keeping controllers side by side on a scenario (default: the paper's).
 
 Without ``--scenario`` it runs :data:`uvms.control.compare.DEFAULT_CASES` (``smc-ab``, ``smc-ne`` with a perfect
-and a noisy IMU, ``smc-vehicle``, ``pid``, ``lqr``) on the paper's case 3 (the bundled scenario
+and a noisy IMU, ``smc-vehicle``, ``pid``; ``--lqr`` adds the ``lqr`` baseline) on the paper's case 3 (the bundled scenario
 ``paper_case3_controlled``, with ideal actuation) and prints peak body-frame errors, peak ``|s|`` per axis, RMS
 commands and a chatter count. ``--scenario NAME_OR_FILE`` runs
 :data:`~uvms.control.compare.SIX_AXIS_CASES` on any scenario, each controller holding the axes the scenario's
@@ -34,23 +34,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="controller update period [s] (default: the scenario file's, 0.01)")
     parser.add_argument("--hydro-scale", type=float, default=None, metavar="FACTOR",
                         help="controller model's added mass and drag / the plant's (default: 0.4, the paper's 60 %% error)")
+    parser.add_argument("--lqr", action="store_true",
+                        help="add the lqr baseline to the paper's comparison (every other scenario has it)")
     parser.add_argument("--json", metavar="FILE", default=None, help="also save the table and the settings as JSON")
 
 
 def _load(args: argparse.Namespace):
-    """The scenario (``--scenario``, default the paper's), an input error naming ``--scenario``."""
+    """The scenario (``--scenario``, default the paper's); a missing or invalid file fails in one line."""
     from uvms.control.compare import PAPER_SCENARIO
-    from uvms.errors import UvmsInputError
     from uvms.sim.scenario import load_scenario
 
-    if args.scenario is None:
-        return load_scenario(PAPER_SCENARIO)
-    try:
-        return load_scenario(args.scenario)
-    except UvmsInputError as exc:
-        if exc.source is None and exc.path is None:
-            raise UvmsInputError(exc.message, path="--scenario") from None
-        raise
+    return load_scenario(PAPER_SCENARIO if args.scenario is None else args.scenario)
 
 
 def _defaults(args: argparse.Namespace, scenario) -> None:
@@ -136,7 +130,15 @@ def run(args: argparse.Namespace) -> int:
     from rich.markup import escape
     from rich.table import Table
 
-    from uvms.control.compare import AXIS_COMMAND, PAPER_AXES, compare_controllers, is_paper, scenario_axes
+    from uvms.control.compare import (
+        AXIS_COMMAND,
+        DEFAULT_CASES,
+        LQR_CASE,
+        PAPER_AXES,
+        compare_controllers,
+        is_paper,
+        scenario_axes,
+    )
     from uvms.control.smc import SlidingModeParameters
     from uvms.sim.result import atomic_write_text
     from uvms.sim.run import Actuation
@@ -149,7 +151,8 @@ def run(args: argparse.Namespace) -> int:
     actuation = Actuation() if args.actuators == "ideal" else None
     console = Console(stderr=True)
     with console.status("running") as status:
-        table = compare_controllers(model, scenario=scenario, duration=args.duration, step=args.step,
+        cases = DEFAULT_CASES + (LQR_CASE,) if paper and args.lqr else None
+        table = compare_controllers(model, cases, scenario=scenario, duration=args.duration, step=args.step,
                                     period=args.period, hydro_scale=args.hydro_scale, actuation=actuation,
                                     progress=lambda label: status.update(f"running {label}"))
 
