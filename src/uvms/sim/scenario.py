@@ -3,7 +3,8 @@
 A scenario is validated like a model file (pydantic v2, unknown keys rejected, one-line errors naming the file
 and the dotted field path), then checked against its model (joint count of torque vectors and initial joint
 angles, controller name). ``docs/scenarios.md`` documents every field; the bundled scenarios
-(``uvms/scenarios/*.yaml``, loadable by name) are the paper's three cases of Section 6.
+(``uvms/scenarios/*.yaml``, loadable by name) are the paper's three cases of Section 6 and two of the BlueROV2
+Heavy + Alpha 5.
 
     scenario = load_scenario("paper_case2_released")     # or a path
     result = run_scenario(scenario)                       # -> uvms.sim.result.Result
