@@ -25,6 +25,7 @@ from uvms.control.compare import (
     scenario_axes,
 )
 from uvms.errors import UvmsInputError
+from uvms.sim.run import Actuation
 from uvms.sim.scenario import load_scenario, resolve_scenario_path, scenario_from_data
 
 HOLD6 = "bluerov2_heavy_alpha5_hold6"
@@ -56,8 +57,7 @@ def test_every_case_holds_the_scenario_axes_with_its_actuators():
         assert result.complete
         assert all(f"e_{axis}" in result.signals for axis in SIX)
         assert any(name.startswith("thrust_cmd_") for name in result.signals)
-    ideal = run_case(None, Case("pid", "pid"), scenario=HOLD6, duration=0.05,
-                     actuation=__import__("uvms.sim.run", fromlist=["Actuation"]).Actuation())
+    ideal = run_case(None, Case("pid", "pid"), scenario=HOLD6, duration=0.05, actuation=Actuation())
     assert not any(name.startswith("thrust_cmd_") for name in ideal.signals)
 
 

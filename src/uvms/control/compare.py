@@ -219,7 +219,7 @@ def scenario_torques(model):
 
 def run_case(model, case: Case, *, scenario=PAPER_SCENARIO, duration: float | None = None,
              step: float | None = None, period: float | None = None, hydro_scale: float | None = None,
-             joint_torques=None, actuation=None):
+             actuation=None):
     """Simulate one case of ``scenario`` (a bundled name, a path or a :class:`~uvms.sim.scenario.Scenario`;
     default :data:`PAPER_SCENARIO`) on ``model`` (``None``: the scenario's) and return its
     :class:`~uvms.sim.result.Result`.
@@ -227,9 +227,10 @@ def run_case(model, case: Case, *, scenario=PAPER_SCENARIO, duration: float | No
     The case's controller holds the scenario's axes (:func:`scenario_axes`) unless its own parameters name them.
     ``duration``, ``step`` and the controller's ``period`` default to the scenario file's; ``hydro_scale`` (if
     given) sets the model error of the sliding-mode controllers unless the case's own parameters set it;
-    ``joint_torques`` defaults to the file's inputs (on the paper scenario: its schedule on joint 1,
-    :func:`scenario_torques`); ``actuation`` (an :class:`~uvms.sim.run.Actuation`) to ideal actuation on the
-    paper scenario and the file's actuators on any other.
+    ``actuation`` (an :class:`~uvms.sim.run.Actuation`) defaults to ideal actuation on the paper scenario and the
+    file's actuators on any other. The joint torques are the file's inputs (on the paper scenario: its schedule
+    on joint 1, :func:`scenario_torques`); for other inputs, pass a scenario with them
+    (:func:`uvms.sim.scenario.scenario_from_data`).
     """
     from uvms.control.registry import make_controller
     from uvms.sim.health import actuation_metadata
@@ -258,14 +259,12 @@ def run_case(model, case: Case, *, scenario=PAPER_SCENARIO, duration: float | No
     metadata = {**options["metadata"], "controller": case.controller, "case": case.label}
     for key in ("actuators", "thrust_limits_N"):  # the file's; this run's actuation is ``actuation``
         metadata.pop(key, None)
-    if joint_torques is None and paper:
-        joint_torques = scenario_torques(model)
     options.update(duration=spec.duration if duration is None else duration, step=spec.step if step is None else step,
                    controller=controller, actuation=actuation,
                    metadata={**metadata, "actuators": "ideal" if not actuation.thrusters else None,
                              **actuation_metadata(actuation)})
-    if joint_torques is not None:
-        options.update(joint_torques=joint_torques, control_period=period)
+    if paper:
+        options.update(joint_torques=scenario_torques(model), control_period=period)
     return simulate(**options)
 
 
@@ -285,7 +284,7 @@ def compare_controllers(model, cases: tuple[Case, ...] | None = None, *, progres
                         **options):
     """Run every case (default :func:`default_cases`) on the scenario and tabulate :func:`metrics` for the axes
     it holds; ``options`` are :func:`run_case`'s (``scenario``, ``duration``, ``step``, ``period``,
-    ``hydro_scale``, ``joint_torques``, ``actuation``).
+    ``hydro_scale``, ``actuation``).
 
     Returns:
         pandas.DataFrame, one row per case: ``case``, ``controller``, the metrics, ``complete`` (False if the
