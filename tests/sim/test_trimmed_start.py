@@ -12,7 +12,7 @@ import pytest
 import uvms
 from uvms.errors import UvmsInputError
 from uvms.model.trim import centres
-from uvms.sim.scenario import scenario_from_data
+from uvms.sim.scenario import run_scenario, scenario_from_data
 
 REACHED = [0.05, 2.0, 2.6, 0.05]
 """The Alpha 5 reached forward and down: the BlueROV2 Heavy rests about 10 deg nose down."""
@@ -74,3 +74,18 @@ def test_no_rest_attitude_is_one_line():
         scenario_from_data(spec)
     assert info.value.path == "initial_state.trimmed" and "no stable rest attitude" in str(info.value)
     assert "\n" not in str(info.value)
+
+
+def test_trimmed_start_stays_at_rest_while_a_level_start_pitches():
+    """Integrated (2 s, the arm held at q by computed torque, no vehicle control): from the trimmed start the
+    attitude moves by less than 0.01 deg; from level with the same arm pose the vehicle pitches by degrees."""
+    hold = {"joint_trajectory": {"times": [0.0, 1.0], "angles": [REACHED, REACHED]}}
+    changes = {}
+    for trimmed in (True, False):
+        spec = data(trimmed=trimmed, q=REACHED) | {"duration": 2.0, "inputs": hold}
+        result = run_scenario(scenario_from_data(spec))
+        assert result.complete
+        euler = np.degrees(result.euler)
+        changes[trimmed] = np.abs(euler - euler[0]).max()
+    assert changes[True] < 0.01
+    assert changes[False] > 1.0
