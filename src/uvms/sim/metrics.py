@@ -14,6 +14,9 @@ Named metrics (errors relative to the initial pose, the paper's Figures 5-6; att
 | ``peak_abs_roll_rad``, ``peak_abs_pitch_rad``, ``peak_abs_yaw_rad`` | ``max_t |angle - angle0|`` [rad] (yaw unwrapped) |
 | ``peak_yaw_error_rad`` | ``max_t |wrap(psi - psi0)|`` [rad] (wrapped to (-pi, pi]: the controllers' yaw error) |
 | ``peak_displacement_m`` | ``max_t |p - p0|`` [m] |
+| ``peak_world_error_xy_m`` | ``max_t |(p - p0)_xy|`` [m] (world-frame horizontal error: six-axis station keeping) |
+| ``peak_depth_error_m`` | ``max_t |z - z0|`` [m] (the depth error; the same number as ``peak_abs_z_m``) |
+| ``peak_roll_error_rad``, ``peak_pitch_error_rad`` | ``max_t |wrap(angle)|`` [rad]: from level (the six-axis controllers' default set point) |
 | ``simulated_time_s`` | the last sample's time [s] |
 | ``healthy`` | 1 for a healthy run, 0 for an unhealthy one (:mod:`uvms.sim.health`) |
 | ``max_saturated_fraction`` | the largest fraction of time any thruster spends at a thrust limit [-] (0 without thrusters) |
@@ -74,12 +77,16 @@ STATISTICS: dict[str, Callable[[np.ndarray], float]] = {
 NAMED: tuple[str, ...] = ("peak_body_error_xy_m", "final_body_error_xy_m", "rms_body_error_xy_m",
                           "peak_abs_x_m", "peak_abs_y_m", "peak_abs_z_m",
                           "peak_abs_roll_rad", "peak_abs_pitch_rad", "peak_abs_yaw_rad", "peak_yaw_error_rad",
-                          "peak_displacement_m", "simulated_time_s",
+                          "peak_displacement_m", "peak_world_error_xy_m", "peak_depth_error_m",
+                          "peak_roll_error_rad", "peak_pitch_error_rad", "simulated_time_s",
                           "healthy", "max_saturated_fraction", "peak_unachieved_force_N", "peak_unachieved_moment_Nm")
 
 HEALTH_METRICS: tuple[str, ...] = ("healthy", "max_abs_roll_rad", "max_abs_pitch_rad", "max_saturated_fraction",
                                    "peak_unachieved_force_N", "peak_unachieved_moment_Nm")
 """Run health (:mod:`uvms.sim.health`) as sweep-table columns: part of every default metric set."""
+
+_POSITION_COMPONENT = {"peak_abs_x_m": 0, "peak_abs_y_m": 1, "peak_abs_z_m": 2, "peak_depth_error_m": 2}
+"""Metrics ``max_t |p_i - p0_i|`` and their component ``i`` (z is down: the depth)."""
 
 _SERIES = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 
@@ -199,9 +206,15 @@ class Series:
             return float(self.body_error_xy()[-1])
         if name == "rms_body_error_xy_m":
             return float(np.sqrt(np.mean(np.square(self.body_error_xy()))))
-        if name in ("peak_abs_x_m", "peak_abs_y_m", "peak_abs_z_m"):
-            p = np.asarray(r.position[:, "xyz".index(name[9])], dtype=float)
+        if name in _POSITION_COMPONENT:
+            p = np.asarray(r.position[:, _POSITION_COMPONENT[name]], dtype=float)
             return float(np.abs(p - p[0]).max())
+        if name == "peak_world_error_xy_m":
+            d = np.asarray(r.position, dtype=float)[:, :2]
+            return float(np.hypot(*(d - d[0]).T).max())
+        if name in ("peak_roll_error_rad", "peak_pitch_error_rad"):
+            angle = self.euler()[:, 0 if name == "peak_roll_error_rad" else 1]
+            return float(np.abs(np.angle(np.exp(1j * angle))).max())
         if name in ("peak_abs_roll_rad", "peak_abs_pitch_rad", "peak_abs_yaw_rad"):
             k = ("peak_abs_roll_rad", "peak_abs_pitch_rad", "peak_abs_yaw_rad").index(name)
             e = self.euler()[:, k]

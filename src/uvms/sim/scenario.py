@@ -3,7 +3,8 @@
 A scenario is validated like a model file (pydantic v2, unknown keys rejected, one-line errors naming the file
 and the dotted field path), then checked against its model (joint count of torque vectors and initial joint
 angles, controller name). ``docs/scenarios.md`` documents every field; the bundled scenarios
-(``uvms/scenarios/*.yaml``, loadable by name) are the paper's three cases of Section 6.
+(``uvms/scenarios/*.yaml``, loadable by name) are the paper's three cases of Section 6 and two of the BlueROV2
+Heavy + Alpha 5.
 
     scenario = load_scenario("paper_case2_released")     # or a path
     result = run_scenario(scenario)                       # -> uvms.sim.result.Result
@@ -29,6 +30,7 @@ from pydantic import (
     Discriminator,
     Field,
     Tag,
+    Strict,
     ValidationError,
     field_validator,
     model_validator,
@@ -100,13 +102,23 @@ class Tolerances(Spec):
 
 
 class InitialStateSpec(Spec):
-    """Initial state; every part defaults to zero (the paper's Section 6)."""
+    """Initial state; every part defaults to zero (the paper's Section 6). ``trimmed: true`` starts at the roll
+    and pitch the system rests at with the arm at ``q`` (:func:`uvms.trimmed_state`); ``euler`` then gives the
+    yaw only (its roll and pitch must be left zero)."""
 
     position: Vec3 = ZERO3                        # vehicle position, world [m]
     euler: Vec3 = ZERO3                           # ZYX Euler angles (roll, pitch, yaw) [rad]
     nu: Vec6 = ZERO6                              # body velocity [p q r u v w] [rad/s, m/s]
     q: Vector | None = None                       # joint angles (n) [rad]
     qd: Vector | None = None                      # joint rates (n) [rad/s]
+    trimmed: Annotated[bool, Strict()] = False    # roll and pitch: the rest attitude with the arm at q
+
+    @model_validator(mode="after")
+    def _trimmed_yaw_only(self) -> InitialStateSpec:
+        if self.trimmed and (self.euler[0] != 0.0 or self.euler[1] != 0.0):
+            raise fail(f"expected [0, 0, yaw] with trimmed: true (roll and pitch come from the trim), found "
+                       f"{show(list(self.euler))}", "euler")
+        return self
 
 
 class TorqueStep(Spec):
@@ -369,8 +381,23 @@ class Scenario:
         return self.spec.vehicle == "fixed"
 
     def initial_state(self) -> State:
+        """The file's initial state; with ``trimmed: true`` its roll and pitch are the rest attitude of the
+        model with the arm at ``q`` (:func:`uvms.model.trim.trimmed_state`, ``docs/scenarios.md``).
+
+        Raises:
+            UvmsInputError: ``trimmed: true`` and the system has no stable rest attitude (one line).
+        """
         s = self.spec.initial_state
-        return State.from_euler(self.model, position=s.position, euler=s.euler, nu=s.nu, q=s.q, qd=s.qd)
+        euler = s.euler
+        if s.trimmed:
+            from uvms.model.trim import trimmed_state
+
+            try:
+                rest = trimmed_state(self.model, s.q, position=s.position, yaw=s.euler[2])
+            except UvmsInputError as exc:
+                raise UvmsInputError(exc.message, self.source, "initial_state.trimmed") from None
+            euler = rest.euler
+        return State.from_euler(self.model, position=s.position, euler=euler, nu=s.nu, q=s.q, qd=s.qd)
 
     def current(self) -> CurrentTable | None:
         """The current input (``None``: the model's environment)."""
@@ -467,9 +494,13 @@ def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | 
         text = yaml.safe_dump(data, sort_keys=False)
     model = _resolve_model(spec, source, Path(base_dir) if base_dir is not None else Path.cwd())
     _check_against_model(spec, model, source)
+    scenario = Scenario(spec=spec, model=model, source=source, sha256=hashlib.sha256(text.encode()).hexdigest(),
+                        text=text)
+    if spec.initial_state.trimmed:
+        scenario.initial_state()                          # no rest attitude: fail now
     if spec.controller is not None:
         _make_controller(spec.controller, model, source)  # unknown name or bad parameters: fail now
-    return Scenario(spec=spec, model=model, source=source, sha256=hashlib.sha256(text.encode()).hexdigest(), text=text)
+    return scenario
 
 
 def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None] | None = None) -> Result:
