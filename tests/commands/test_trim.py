@@ -50,3 +50,13 @@ def test_bad_input_is_one_line_and_exit_2(capsys, argv, expected):
     assert main(["trim", "bluerov2_heavy_alpha5", *argv]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.startswith(expected) and err.count("\n") == 1
+
+
+def test_repeated_q_options_add_up(capsys):
+    """``--q a=1 --q b=2`` gives both joints (argparse's extend), as ``--q a=1 b=2`` does."""
+    from uvms.cli import main
+
+    assert main(["trim", "bluerov2_heavy_alpha5", "--q", "axis_d=0.4", "--q", "axis_c=0.4", "--json"]) == 0
+    apart = capsys.readouterr().out
+    assert main(["trim", "bluerov2_heavy_alpha5", "--q", "axis_d=0.4", "axis_c=0.4", "--json"]) == 0
+    assert capsys.readouterr().out == apart

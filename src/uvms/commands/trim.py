@@ -13,7 +13,7 @@ HELP = "the attitude a model rests at with its arm in a pose, and the ballast th
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the arguments of ``uvms trim``."""
     parser.add_argument("model", metavar="MODEL", help="model YAML file, URDF or xacro file, or a bundled model name")
-    parser.add_argument("--q", metavar="NAME=VALUE", nargs="+", default=None,
+    parser.add_argument("--q", metavar="NAME=VALUE", nargs="+", action="extend", default=None,
                         help="joint values [rad or m] by joint name (others zero), e.g. --q axis_d=0.4 axis_c=0.4")
     parser.add_argument("--ballast", choices=("mass", "foam"), default="mass",
                         help="levelling ballast: a point mass [kg] (default) or buoyancy foam [m^3]")
