@@ -172,7 +172,7 @@ def no_controller() -> ControllerData:
 # ------------------------------------------------------------------------------------------ the kernels
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _set_point(ctrl, t, x):
     """The first update captures the pose; the set point is the last waypoint whose time has come, its NaN
     entries replaced by the captured pose."""
@@ -193,7 +193,7 @@ def _set_point(ctrl, t, x):
         ctrl.desired[j] = ctrl.captured[j] if math.isnan(value) else value
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def arm_reaction(ctrl, x, tau, a0, out):
     """The wrench (6,) the arm exerts on the vehicle moving with ``nu`` and ``a0`` (:mod:`uvms.control.smc_ne`)::
 
@@ -222,7 +222,7 @@ def arm_reaction(ctrl, x, tau, a0, out):
         out[j] = ctrl.f_vehicle[j] - ctrl.f_system[j]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _predict(ctrl, x, tau, nu_dot_true):
     """The controller model's ``nu_dot`` at ``f_0 = 0`` into ``ctrl.nu_dot``; returns the 6x6 inertia mapping
     a body wrench to ``nu_dot`` in that model (for ``b_source = "model"``)."""
@@ -242,7 +242,7 @@ def _predict(ctrl, x, tau, nu_dot_true):
     return ctrl.vehicle.body.inertia_h[0]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _sliding_mode(ctrl, x, tau, nu_dot_true, wrench):
     inertia = _predict(ctrl, x, tau, nu_dot_true)
     need_model = ctrl.b_from_model
@@ -290,7 +290,7 @@ def _sign(value):
     return 1.0 if value > 0.0 else (-1.0 if value < 0.0 else 0.0)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _pid(ctrl, wrench):
     """``f = -(kp e + ki z + kd e_dot)`` clipped to the limit, clamping anti-windup (:mod:`uvms.control.pid`)."""
     i = 0

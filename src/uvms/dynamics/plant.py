@@ -29,6 +29,7 @@ from numba.experimental import structref
 
 from uvms.dynamics.aba import aba
 from uvms.dynamics.crba import crba
+from uvms.dynamics.jit import kernel
 from uvms.dynamics.kernel_model import KernelModel, Workspace, make_workspace
 from uvms.dynamics.rnea import rnea
 from uvms.kinematics import normalised_rotation
@@ -154,20 +155,20 @@ def held_inputs(n_joints: int, n_thrusters: int) -> Held:
 # ------------------------------------------------------------------------------------- compiled entry points
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def forward_into(md, R, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd):
     """``nu_dot`` (6) and ``qdd`` (n) by the articulated-body algorithm (:func:`uvms.dynamics.aba.aba`)."""
     aba(md.body, md.work, R, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def inverse_into(md, R, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f0, tau):
     """The vehicle wrench ``f0`` (6) and joint torques ``tau`` (n) producing ``nu_dot``, ``qdd``
     (:func:`uvms.dynamics.rnea.rnea`)."""
     rnea(md.body, md.work, R, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f0, tau)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def mass_matrix_into(md, q, M):
     """The joint-space inertia ``M`` (6+n, 6+n) at joint angles ``q`` (:func:`uvms.dynamics.crba.crba`)."""
     crba(md.body, md.work, q, M)

@@ -24,7 +24,8 @@ from numba.experimental import structref
 
 from uvms.control.arm import arm_torques
 from uvms.control.kernels import controller_update
-from uvms.sim.integrate import rk4, state_derivative
+from uvms.dynamics.plant import plant_data
+from uvms.sim.integrate import rk4_steps, state_derivative
 from uvms.thrusters.command import allocate_command
 
 
@@ -139,12 +140,13 @@ def advance(plant, held, control, schedule, record, log, x, start, stop):
     ``code`` 0, or :func:`~uvms.sim.integrate.check_state`'s code of the step that left the sane range."""
     done = start
     h = schedule.h
+    data = plant_data(plant)                # read once: the RK4 kernel takes it without reference counting
     while done < stop:
         if _is_event(schedule, done):
             _update(plant, held, control, schedule, x, done)
             _log_update(log, record.every, done, held.joint_torques, control.signals)
         nxt = _next_event(schedule, done, stop)
-        k, code = rk4(plant, held, x, 0.0, h, nxt - done, done, record)
+        k, code = rk4_steps(data, held, x, 0.0, h, nxt - done, done, record)
         done += k
         if code != 0:
             return done, code
