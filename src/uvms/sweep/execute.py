@@ -101,10 +101,11 @@ def run_batch(tasks: list[dict[str, Any]], per_run: Callable[[dict[str, Any]], d
         start = time.perf_counter()
         try:
             plan = plan_scenario(_scenario(task))
+            batched = compilable(plan)
         except Exception as exc:  # noqa: BLE001 - recorded in the row, never fatal to the sweep
             outcomes[k] = {**_failed(exc), "wall_time_s": time.perf_counter() - start}
             continue
-        if compilable(plan):
+        if batched:
             plans[k], spent[k] = plan, time.perf_counter() - start
         else:
             outcomes[k] = run_task(task)
@@ -122,7 +123,8 @@ def run_batch(tasks: list[dict[str, Any]], per_run: Callable[[dict[str, Any]], d
                 outcome = _outcome(result, tasks[k]["metrics"])
             except Exception as exc:  # noqa: BLE001 - recorded in the row, never fatal to the sweep
                 outcome = _failed(exc)
-            outcome["wall_time_s"] = spent[k] + float(result.metadata["wall_time_s"]) + time.perf_counter() - start
+            loop = float(result.metadata.get("wall_time_s", 0.0))
+            outcome["wall_time_s"] = spent[k] + loop + time.perf_counter() - start
             outcomes[k] = outcome
     return outcomes
 
