@@ -21,7 +21,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from importlib.resources import files
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
 from pydantic import (
@@ -61,6 +61,9 @@ from uvms.sim.health import HealthLimits, actuation_metadata
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
 from uvms.sim.result import Result
 from uvms.state import State
+
+if TYPE_CHECKING:
+    from uvms.sim.plan import RunPlan
 
 _SCENARIOS = files("uvms") / "scenarios"
 
@@ -510,6 +513,15 @@ def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None]
     from uvms.sim.run import simulate
 
     return simulate(**scenario.simulate_options(), progress=progress)
+
+
+def plan_scenario(scenario: Scenario) -> RunPlan:
+    """The checked run of a scenario, not yet run (:func:`uvms.sim.run.prepare` of the same
+    :meth:`Scenario.simulate_options` that :func:`run_scenario` simulates): :func:`uvms.sim.batch.run_plans`
+    runs many at once, each result equal to :func:`run_scenario`'s."""
+    from uvms.sim.run import prepare
+
+    return prepare(**scenario.simulate_options())
 
 
 # ---------------------------------------------------------------------------------------------- helpers

@@ -10,9 +10,9 @@ with Dask, recorded row by row (resumable), summarised per controller.
 
 from __future__ import annotations
 
-from uvms.sweep.execute import SweepStopped, run, run_task, runs_table, summarize
+from uvms.sweep.execute import SweepStopped, run, run_batch, run_task, runs_table, summarize
 from uvms.sweep.metrics import check_metric, compute_metrics, default_metrics
 from uvms.sweep.spec import Sweep, SweepRun, SweepSpec, bundled_sweeps, load_sweep, sweep_from_data
 
 __all__ = ["Sweep", "SweepRun", "SweepSpec", "SweepStopped", "bundled_sweeps", "check_metric", "compute_metrics", "default_metrics",
-           "load_sweep", "run", "run_task", "runs_table", "summarize", "sweep_from_data"]
+           "load_sweep", "run", "run_batch", "run_task", "runs_table", "summarize", "sweep_from_data"]

@@ -88,18 +88,26 @@ def _loop_without_sigint():
     return runner
 
 
+def process_threads(workers: int, threads: int = 1) -> list[int]:
+    """Threads of each local worker process for ``workers`` threads in all, at most ``threads`` per process:
+    ``ceil(workers / threads)`` processes, as even as can be (5 threads by 2: ``[2, 2, 1]``)."""
+    processes = -(-workers // max(1, threads))
+    return [workers // processes + (k < workers % processes) for k in range(processes)]
+
+
 @contextmanager
-def local_cluster(workers: int, *, preload: list[str] | None = None) -> Iterator[Any]:
-    """A client on a new private local cluster (see the module docstring) of ``workers`` processes with one
-    thread each, closed on the way out. A Ctrl-C while it starts raises ``KeyboardInterrupt`` after the parts
-    already started are shut down. distributed's loggers are silent meanwhile: the sweep reports what matters
-    (runs lost with a worker, no worker left) itself, in one line."""
-    with quiet_logs(), _local_cluster(workers, preload) as client:
+def local_cluster(workers: int, *, threads: int = 1, preload: list[str] | None = None) -> Iterator[Any]:
+    """A client on a new private local cluster (see the module docstring) of ``workers`` worker threads in
+    processes of at most ``threads`` threads each (:func:`process_threads`), closed on the way out. A Ctrl-C
+    while it starts raises ``KeyboardInterrupt`` after the parts already started are shut down. distributed's
+    loggers are silent meanwhile: the sweep reports what matters (runs lost with a worker, no worker left)
+    itself, in one line."""
+    with quiet_logs(), _local_cluster(process_threads(workers, threads), preload) as client:
         yield client
 
 
 @contextmanager
-def _local_cluster(workers: int, preload: list[str] | None) -> Iterator[Any]:
+def _local_cluster(layout: list[int], preload: list[str] | None) -> Iterator[Any]:
     from distributed import Client, Nanny
     from distributed.deploy.spec import SpecCluster
     from distributed.system import MEMORY_LIMIT
@@ -110,11 +118,14 @@ def _local_cluster(workers: int, preload: list[str] | None) -> Iterator[Any]:
     scheduler = {"cls": PrivateScheduler, "options": {
         "host": "127.0.0.1", "port": 0, "protocol": "tls://", "security": security, "dashboard": False,
         "dashboard_address": None, "validate": False}}
-    worker = {"cls": Nanny, "options": {
-        "host": "127.0.0.1", "protocol": "tls://", "security": security, "nthreads": 1,
-        "worker_class": PrivateWorker, "dashboard": False, "dashboard_address": None,
-        "silence_logs": logging.CRITICAL,
-        "preload": list(preload or []), "memory_limit": max(1, MEMORY_LIMIT // max(1, workers))}}
+    def worker_spec(nthreads: int) -> dict[str, Any]:
+        return {"cls": Nanny, "options": {
+            "host": "127.0.0.1", "protocol": "tls://", "security": security, "nthreads": nthreads,
+            "worker_class": PrivateWorker, "dashboard": False, "dashboard_address": None,
+            "silence_logs": logging.CRITICAL,
+            "preload": list(preload or []), "memory_limit": max(1, MEMORY_LIMIT // len(layout))}}
+
+    worker = worker_spec(layout[0])
     started: list[Any] = []
 
     class _Cluster(SpecCluster):
@@ -128,7 +139,8 @@ def _local_cluster(workers: int, preload: list[str] | None) -> Iterator[Any]:
     try:
         with quiet_logs():
             runner = _loop_without_sigint()
-            cluster = _Cluster(scheduler=scheduler, workers={k: worker for k in range(workers)}, worker=worker,
+            cluster = _Cluster(scheduler=scheduler, workers={k: worker_spec(t) for k, t in enumerate(layout)},
+                               worker=worker,
                                loop=runner.loop, security=security, silence_logs=logging.CRITICAL,
                                name="uvms-sweep")
             client = Client(cluster, security=security, set_as_default=False)

@@ -1,18 +1,24 @@
 """Running a sweep with Dask, recording each finished run as it completes, and summarising the rows.
 
-The client keeps a sliding window of submitted runs (two per worker thread): a kill loses at most those in
-flight, and every finished run is appended to ``runs.csv`` (:mod:`uvms.sweep.store`) by the client alone.
-Workers run :func:`run_task`, a module-level function: each worker imports uvms once, and the numba kernels
-come from the on-disk cache (:mod:`uvms._cache`). A run that raises or diverges is a row with
-``status = failed`` and its one-line error; it does not stop the sweep. A run that the *cluster* failed (its
-worker died, the scheduler was lost) is not recorded at all, so that resuming runs it again; the sweep then
-ends with :class:`SweepStopped`, as it does when no worker is left for :data:`WORKER_WAIT` seconds. The local
-cluster is private (TLS, no HTTP port): :mod:`uvms.sweep.cluster`.
+The client keeps a sliding window of submitted *batches* of runs (two per worker thread): a kill loses at most
+the runs of those in flight, and every run of a finished batch is appended to ``runs.csv``
+(:mod:`uvms.sweep.store`) by the client alone, as soon as the batch returns. Workers run :func:`run_batch`, a
+module-level function: it prepares each run of the batch (:func:`uvms.sim.scenario.plan_scenario`) and runs the
+compilable ones through the batch runner :func:`uvms.sim.batch.run_plans` (compiled loops without the GIL, so
+the threads of one worker process run in parallel), and any other one through :func:`run_task` (one run,
+``simulate``'s Python loop). Each worker imports uvms once, and the numba kernels come from the on-disk cache
+(:mod:`uvms._cache`). Batches are sized from the measured cost of the runs (:class:`BatchSizer`, about
+:data:`BATCH_SECONDS` of work each). A run that raises or diverges is a row with ``status = failed`` and its
+one-line error; it does not stop the sweep. A run that the *cluster* failed (its worker died, the scheduler was
+lost) is not recorded at all, so that resuming runs it again; the sweep then ends with :class:`SweepStopped`,
+as it does when no worker is left for :data:`WORKER_WAIT` seconds. The local cluster is private (TLS, no HTTP
+port): :mod:`uvms.sweep.cluster`.
 """
 
 from __future__ import annotations
 
 import io
+import math
 import os
 import time
 import uuid
@@ -37,30 +43,115 @@ WORKER_WAIT = 120.0
 during a sweep (then :class:`SweepStopped`)."""
 POLL = 1.0
 """Seconds between checks that the cluster still has workers while no run finishes."""
+THREADS_PER_PROCESS = 1
+"""Worker threads per local worker process: ``--workers N`` starts N single-threaded processes. A process that
+dies (a crash in compiled code, the out-of-memory killer) loses only its own batches in flight; one process
+with two threads was not faster on the 2-core machine (``docs/sweeps.md``, "Performance")."""
+BATCH_THREADS = 1
+"""Threads of :func:`uvms.sim.batch.run_plans` in one batch: each worker thread runs its own batch, so that one
+batch's Python work (reading scenarios, metrics) overlaps another's compiled loops."""
+BATCH_SECONDS = 1.0
+"""Wall time of work aimed at by one batch (per thread of the batch)."""
+MAX_BATCH = 64
+"""Most runs in one batch."""
 
 
 def run_task(task: dict[str, Any]) -> dict[str, Any]:
     """Simulate one run on a worker: ``task`` holds the scenario ``data``, ``base_dir``, ``source`` and the
     ``metrics`` to compute; returns ``{status, error, metrics, wall_time_s}`` (never raises)."""
-    from uvms.sim.scenario import run_scenario, scenario_from_data
-    from uvms.sweep.metrics import compute_metrics
+    from uvms.sim.scenario import run_scenario
 
     start = time.perf_counter()
     try:
-        scenario = scenario_from_data(task["data"], source=task["source"], base_dir=task["base_dir"])
-        result = run_scenario(scenario)
-        if not result.complete:
-            outcome = {"status": "failed", "error": result.message, "metrics": {}}
-        else:
-            outcome = {"status": "ok", "error": "", "metrics": compute_metrics(result, task["metrics"])}
+        outcome = _outcome(run_scenario(_scenario(task)), task["metrics"])
     except Exception as exc:  # noqa: BLE001 - recorded in the row, never fatal to the sweep
-        outcome = {"status": "failed", "error": _describe(exc), "metrics": {}}
+        outcome = _failed(exc)
     outcome["wall_time_s"] = time.perf_counter() - start
     return outcome
 
 
+def run_batch(tasks: list[dict[str, Any]], per_run: Callable[[dict[str, Any]], dict[str, Any]] | None = None,
+              threads: int = BATCH_THREADS) -> list[dict[str, Any]]:
+    """Run a batch of runs on a worker and return one outcome per task, in order, each what :func:`run_task`
+    returns for it (the same numbers: :func:`uvms.sim.batch.run_plans` gives what ``simulate`` gives); never
+    raises for a run's own failure.
+
+    Each task is prepared (:func:`uvms.sim.scenario.plan_scenario`; a run whose preparation raises is a
+    ``failed`` outcome), then the compilable plans (:func:`uvms.sim.compiled_loop.compilable`) run together in
+    ``threads`` threads, and any other run through :func:`run_task`. Should the batch runner raise, every run of
+    the batch runs through :func:`run_task`, so that only the run at fault fails. A run's ``wall_time_s`` is
+    its own: preparation, loop and metrics.
+
+    Args:
+        tasks: as :func:`run_task`'s.
+        per_run: a stand-in for :func:`run_task` run on every task in turn (the tests give one that fails the
+            cluster); ``None`` or :func:`run_task`: the batch runner.
+        threads: threads of the batch runner.
+    """
+    if per_run is not None and per_run is not run_task:
+        return [per_run(task) for task in tasks]
+    from uvms.sim.batch import run_plans
+    from uvms.sim.compiled_loop import compilable
+    from uvms.sim.scenario import plan_scenario
+
+    outcomes: list[dict[str, Any] | None] = [None] * len(tasks)
+    plans: dict[int, Any] = {}
+    spent: dict[int, float] = {}
+    for k, task in enumerate(tasks):
+        start = time.perf_counter()
+        try:
+            plan = plan_scenario(_scenario(task))
+            batched = compilable(plan)
+        except Exception as exc:  # noqa: BLE001 - recorded in the row, never fatal to the sweep
+            outcomes[k] = {**_failed(exc), "wall_time_s": time.perf_counter() - start}
+            continue
+        if batched:
+            plans[k], spent[k] = plan, time.perf_counter() - start
+        else:
+            outcomes[k] = run_task(task)
+    if plans:
+        try:
+            results = run_plans(list(plans.values()), threads=threads)
+        except Exception:  # noqa: BLE001 - each run on its own: the one at fault fails alone
+            results = None
+        for k, result in zip(plans, results or [None] * len(plans)):
+            if result is None:
+                outcomes[k] = run_task(tasks[k])
+                continue
+            start = time.perf_counter()
+            try:
+                outcome = _outcome(result, tasks[k]["metrics"])
+            except Exception as exc:  # noqa: BLE001 - recorded in the row, never fatal to the sweep
+                outcome = _failed(exc)
+            loop = float(result.metadata.get("wall_time_s", 0.0))
+            outcome["wall_time_s"] = spent[k] + loop + time.perf_counter() - start
+            outcomes[k] = outcome
+    return outcomes
+
+
+def _scenario(task: dict[str, Any]):
+    from uvms.sim.scenario import scenario_from_data
+
+    return scenario_from_data(task["data"], source=task["source"], base_dir=task["base_dir"])
+
+
+def _outcome(result, metrics: list[str]) -> dict[str, Any]:
+    """A finished run's outcome (without its wall time): ``failed`` with the divergence message, else ``ok``
+    with its metrics."""
+    from uvms.sweep.metrics import compute_metrics
+
+    if not result.complete:
+        return {"status": "failed", "error": result.message, "metrics": {}}
+    return {"status": "ok", "error": "", "metrics": compute_metrics(result, metrics)}
+
+
+def _failed(exc: Exception) -> dict[str, Any]:
+    return {"status": "failed", "error": _describe(exc), "metrics": {}}
+
+
 _TASK = run_task
-"""The function the workers run (tests replace it to simulate a cluster failure)."""
+"""The function that runs one task on a worker, passed to :func:`run_batch` (tests replace it to simulate a
+cluster failure)."""
 
 
 def _describe(exc: Exception) -> str:
@@ -88,8 +179,9 @@ def dask_setup(worker=None) -> None:
 
 
 def warm_up(tasks: list[dict[str, Any]]) -> int:
-    """Import uvms and load (or compile) the kernels on a worker: each task shortened to three control periods."""
-    count = 0
+    """Import uvms and load (or compile) the kernels on a worker: each task shortened to three control periods,
+    run as a batch (:func:`run_batch`); returns how many ran."""
+    short = []
     for task in tasks:
         data = dict(task["data"])
         controller = data.get("controller")
@@ -97,11 +189,41 @@ def warm_up(tasks: list[dict[str, Any]]) -> int:
         step = data.get("step", 0.001)
         try:
             data["duration"] = 3 * max(float(period or 0.0), float(step))
-            run_task({**task, "data": data})
-            count += 1
-        except Exception:  # noqa: BLE001 - the real runs report any problem
-            pass
-    return count
+        except (TypeError, ValueError):  # the real runs report any problem
+            continue
+        short.append({**task, "data": data})
+    try:
+        return len(run_batch(short))
+    except Exception:  # noqa: BLE001 - the real runs report any problem
+        return 0
+
+
+class BatchSizer:
+    """How many runs the client puts in the next batch: one per batch thread until a run has finished, then
+    about :data:`BATCH_SECONDS` of work from the mean wall time of the runs so far, at most :data:`MAX_BATCH`,
+    and at most an equal share of the runs left over the ``slots`` batches in flight (so that the last batches
+    are small and the workers finish together)."""
+
+    def __init__(self, threads: int = BATCH_THREADS) -> None:
+        self.threads = max(1, int(threads))
+        self.seconds = 0.0
+        self.runs = 0
+
+    def record(self, outcome: dict[str, Any]) -> None:
+        """Count a finished run's ``wall_time_s``."""
+        wall = outcome.get("wall_time_s")
+        if isinstance(wall, (int, float)) and math.isfinite(wall) and wall >= 0:
+            self.seconds += float(wall)
+            self.runs += 1
+
+    def size(self, left: int, slots: int) -> int:
+        """Runs of the next batch, with ``left`` runs not yet submitted and ``slots`` batches in flight at most."""
+        if self.runs:
+            per_run = max(self.seconds / self.runs, 1e-6) / self.threads  # a batch's runs share its threads
+            aim = min(MAX_BATCH, max(1, int(BATCH_SECONDS / per_run)))
+        else:
+            aim = self.threads
+        return max(1, min(aim, math.ceil(left / max(1, slots))))
 
 
 class SweepStopped(RuntimeError):
@@ -133,8 +255,9 @@ def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.Path
         sweep_or_path: a :class:`Sweep`, or a sweep file path or bundled name.
         out_dir: record into this directory (``runs.csv`` ...; see :mod:`uvms.sweep.store`), skipping the
             runs already recorded there (resume); ``None``: keep the rows in memory only.
-        workers: local worker processes (one thread each) when no ``scheduler`` is given; the local cluster is
-            private (TLS with credentials made for it, no HTTP port: :mod:`uvms.sweep.cluster`).
+        workers: local worker threads, i.e. runs at once, when no ``scheduler`` is given, in processes of
+            :data:`THREADS_PER_PROCESS` thread(s) each; the local cluster is private (TLS with credentials made
+            for it, no HTTP port: :mod:`uvms.sweep.cluster`).
         scheduler: address of a running Dask scheduler (``tls://host:8786``) to use instead.
         security: ``distributed.security.Security`` for ``scheduler`` (default: the Dask configuration's
             ``distributed.comm.tls.*``); see :func:`uvms.sweep.cluster.security_from_files`.
@@ -256,11 +379,12 @@ def _tasks(sweep: Sweep, runs: list[SweepRun]) -> Iterator[tuple[SweepRun, dict[
 
 def _execute(client, sweep: Sweep, runs: list[SweepRun], lost: dict[str, str]
              ) -> Iterator[tuple[SweepRun, dict[str, Any]]]:
-    """Submit the runs in a sliding window and yield ``(run, outcome)`` as they finish.
+    """Submit the runs in batches (:func:`run_batch`, sized by :class:`BatchSizer`) in a sliding window of two
+    per worker thread, and yield ``(run, outcome)`` for every run of a batch as soon as it returns.
 
-    An outcome is what :func:`run_task` returned: the run's own result, ``ok`` or ``failed``, and final. A
-    future that raises instead (``KilledWorker``, a lost connection, cancelled) says nothing about the run:
-    it goes into ``lost`` (run_id -> error), is not yielded, and runs again on resume.
+    An outcome is what :func:`run_task` returns: the run's own result, ``ok`` or ``failed``, and final. A
+    future that raises instead (``KilledWorker``, a lost connection, cancelled) says nothing about its runs:
+    they go into ``lost`` (run_id -> error), are not yielded, and run again on resume.
 
     Raises:
         SweepStopped: no worker for :data:`WORKER_WAIT` seconds, or the scheduler lost.
@@ -277,19 +401,22 @@ def _execute(client, sweep: Sweep, runs: list[SweepRun], lost: dict[str, str]
         pass
     token = uuid.uuid4().hex[:8]
     pending = _tasks(sweep, runs)
-    by_future: dict[Any, SweepRun] = {}
+    left = [len(runs)]
+    sizer = BatchSizer(BATCH_THREADS)
+    by_future: dict[Any, list[SweepRun]] = {}
 
     def fill() -> None:
-        while len(by_future) < 2 * max(1, threads):
-            item = next(pending, None)
-            if item is None:
-                return
-            run, task = item
+        slots = 2 * max(1, threads)
+        while len(by_future) < slots and left[0]:
+            batch = [next(pending) for _ in range(sizer.size(left[0], slots))]
+            left[0] -= len(batch)
+            key = f"uvms-sweep-{token}-{batch[0][0].run_id}" + (f"+{len(batch) - 1}" if len(batch) > 1 else "")
             try:
-                future = client.submit(_TASK, task, key=f"uvms-sweep-{token}-{run.run_id}", pure=False, retries=0)
+                future = client.submit(run_batch, [task for _, task in batch], _TASK, BATCH_THREADS, key=key,
+                                       pure=False, retries=0)
             except Exception as exc:  # noqa: BLE001 - a client that lost its scheduler
                 raise SweepStopped(_lost_scheduler(exc)) from None
-            by_future[future] = run
+            by_future[future] = [run for run, _ in batch]
 
     fill()
     idle_since: float | None = None
@@ -312,14 +439,15 @@ def _execute(client, sweep: Sweep, runs: list[SweepRun], lost: dict[str, str]
                 raise SweepStopped(_lost_scheduler(exc)) from None
             idle_since = None
             for future in finished:
-                run = by_future.pop(future)
+                batch = by_future.pop(future)
                 try:
-                    outcome = future.result()
-                except Exception as exc:  # noqa: BLE001 - the cluster failed, not the run: not final
-                    lost[run.run_id] = f"{type(exc).__name__}: {exc}"
-                    outcome = None
+                    outcomes = future.result()
+                except Exception as exc:  # noqa: BLE001 - the cluster failed, not the runs: not final
+                    lost.update((run.run_id, f"{type(exc).__name__}: {exc}") for run in batch)
+                    outcomes = []
                 future.release()
-                if outcome is not None:
+                for run, outcome in zip(batch, outcomes):
+                    sizer.record(outcome)
                     yield run, outcome
             if client.status != "running":
                 raise SweepStopped(_lost_scheduler(None))
@@ -346,12 +474,12 @@ def _lost_scheduler(exc: BaseException | None) -> str:
 
 
 def _connect(workers: int, scheduler: str | None, security: Any = None):
-    """A Dask client (a context manager): on a new private local cluster of ``workers`` processes, or on the
-    scheduler at ``scheduler``."""
+    """A Dask client (a context manager): on a new private local cluster of ``workers`` threads (in processes
+    of :data:`THREADS_PER_PROCESS` threads), or on the scheduler at ``scheduler``."""
     if scheduler is not None:
         return cluster.external_client(scheduler, security, connect_timeout=CONNECT_TIMEOUT,
                                        worker_wait=WORKER_WAIT)
-    return cluster.local_cluster(workers, preload=[__name__])
+    return cluster.local_cluster(workers, threads=THREADS_PER_PROCESS, preload=[__name__])
 
 
 def runs_table(out_dir: str | os.PathLike[str]):
