@@ -66,3 +66,7 @@ def main(argv: list[str] | None = None) -> int:
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"uvms: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2
+    finally:
+        from uvms._cache import set_compile_notice
+
+        set_compile_notice(None)              # the notice belongs to this command only

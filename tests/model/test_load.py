@@ -176,3 +176,24 @@ def test_thruster_parameter_errors_name_the_file(tmp_path, parameters, field):
     with pytest.raises(UvmsInputError) as info:
         load_model(path)
     assert str(info.value).startswith(f"{path}: {field}")
+
+
+def test_a_model_file_is_built_once_until_it_changes(tmp_path):
+    """A sweep loads one model file for every run: the built (immutable) model is reused until the file
+    changes."""
+    import os
+    import shutil
+
+    import uvms
+    from uvms.model.load import resolve_model_path
+
+    path = tmp_path / "paper.yaml"
+    shutil.copy(resolve_model_path("paper"), path)
+    first = uvms.load_model(path)
+    assert uvms.load_model(str(path)) is first
+    text = path.read_text().replace("mass: 32.0", "mass: 33.0", 1)
+    assert text != path.read_text()
+    path.write_text(text)
+    os.utime(path, ns=(os.stat(path).st_atime_ns, os.stat(path).st_mtime_ns + 10**9))
+    second = uvms.load_model(path)
+    assert second is not first and second.mass[0] == 33.0

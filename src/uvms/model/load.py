@@ -74,6 +74,36 @@ def load_model(name_or_path: str | os.PathLike[str]) -> Model:
 
     if is_robot_description(name_or_path) and Path(name_or_path).exists():
         return model_from_urdf(name_or_path)
+    key = _file_key(resolve_model_path(name_or_path))
+    hit = _LOADED.get(key)
+    if hit is not None and all(_file_key(path) == stat for path, stat in hit[1]):
+        return hit[0]
+    model, robot = _load_model_file(name_or_path)
+    if len(_LOADED) >= _MAX_LOADED:
+        _LOADED.pop(next(iter(_LOADED)))
+    _LOADED[key] = (model, tuple((path, _file_key(path)) for path in robot))
+    return model
+
+
+_LOADED: dict[tuple, tuple] = {}
+"""Models already built from a file: ``(path, mtime, size) -> (model, ((robot description, its key), ...))``.
+A model is immutable, so a sweep's thousand runs of one model file build it once; an edited file (or an edited
+URDF it names) is read again."""
+_MAX_LOADED = 32
+
+
+def _file_key(path) -> tuple:
+    try:
+        st = os.stat(path)
+    except OSError:
+        return (str(path), None, None)
+    return (str(Path(path).resolve()), st.st_mtime_ns, st.st_size)
+
+
+def _load_model_file(name_or_path) -> tuple[Model, tuple]:
+    """The model of a YAML file (bundled name or path) and the robot description files it was built from."""
+    from uvms.model.urdf import is_robot_description
+
     spec, source = load_model_spec(name_or_path)
     try:
         if isinstance(spec, UrdfModelSpec):
@@ -84,8 +114,8 @@ def load_model(name_or_path: str | os.PathLike[str]) -> Model:
                 raise UvmsInputError(f"expected a .urdf or .xacro file, found {spec.urdf!r}", source, "urdf")
             if not urdf.exists():
                 raise UvmsInputError(f"no such file: {urdf}", source, "urdf")
-            return build_urdf_model(spec, urdf, source)
-        return build_model(spec, source)
+            return build_urdf_model(spec, urdf, source), (urdf,)
+        return build_model(spec, source), ()
     except UvmsInputError as exc:   # checks made while building (thruster parameters...) name the file too
         if exc.source is not None:
             raise
