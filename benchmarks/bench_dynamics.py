@@ -303,6 +303,7 @@ def bench_pinocchio(settings: Settings) -> Section:
     t = time_side_by_side({
         "uvms_python": python_loop(uvms.forward_dynamics, rigid, inp.state, joint_torques=inp.tau,
                                    body_wrench=inp.f_body),
+        "uvms_python_tau": python_loop(uvms.forward_dynamics, rigid, inp.state, joint_torques=inp.tau),
         "uvms_compiled": inp.aba_batch,
         "pinocchio": python_loop(pin.aba, pm, pd, q, v, tau),
         "pinocchio_fext": python_loop(pin.aba, pm, pd, q, v, tau, fext)}, settings)
@@ -310,13 +311,17 @@ def bench_pinocchio(settings: Settings) -> Section:
     sec.figures["pinocchio_aba_us"] = t["pinocchio"]
     sec.figures["pinocchio_aba_fext_us"] = t["pinocchio_fext"]
     sec.figures["uvms_forward_dynamics_rigid_us"] = uvms_python
+    sec.figures["uvms_forward_dynamics_tau_rigid_us"] = t["uvms_python_tau"]
     sec.figures["uvms_aba_compiled_rigid_us"] = uvms_compiled
     sec.figures["max_abs_difference"] = float(error)
     p = sec.figures["pinocchio_aba_us"]
     sec.rows = [
         ["pinocchio.aba(q, v, tau)", p, "1.00"],
         ["pinocchio.aba(q, v, tau, fext)", sec.figures["pinocchio_aba_fext_us"], ""],
-        ["uvms.forward_dynamics (Python)", uvms_python, f"{uvms_python / p:.2f}"],
+        ["uvms.forward_dynamics(state, joint_torques=tau)", t["uvms_python_tau"],
+         f"{t['uvms_python_tau'] / p:.2f}"],
+        ["uvms.forward_dynamics(..., body_wrench=f) vs aba(..., fext)", uvms_python,
+         f"{uvms_python / sec.figures['pinocchio_aba_fext_us']:.2f}"],
         ["uvms aba (compiled loop)", uvms_compiled, f"{uvms_compiled / p:.2f}"],
     ]
     sec.notes.append(f"same state, same result: max |uvms - pinocchio| = {error:.1e}")

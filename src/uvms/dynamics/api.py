@@ -42,6 +42,17 @@ _vec = checks.optional_vector
 """``(value, size, name)``: a fresh float64 array of ``size`` finite values (zeros for ``None``), else a one-line
 :class:`~uvms.errors.UvmsInputError` naming the argument."""
 _PER_JOINT = " (one per joint)"
+
+
+def _read(value, size: int, name: str, what: str) -> np.ndarray:
+    """:func:`uvms.checks.vector` for an input the kernel only reads: a C-ordered float64 array of the right
+    shape and finite values is used as it is (no copy), anything else is converted and checked."""
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (size,) \
+            and value.flags.c_contiguous:
+        total = sum(value.tolist())
+        if total - total == 0.0:
+            return value
+    return checks.vector(value, size, name, what)
 _WRENCH = " [moment; force]"
 
 
@@ -153,18 +164,18 @@ class Dynamics:
             raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does "
                                             "not move")
         n = self.model.n_joints
-        tau = self._zero_n if joint_torques is None else checks.vector(joint_torques, n, "joint_torques", _PER_JOINT)
-        f_body = self._zero6 if body_wrench is None else checks.vector(body_wrench, 6, "body_wrench", _WRENCH)
-        f_ee = self._zero6 if ee_wrench is None else checks.vector(ee_wrench, 6, "ee_wrench", _WRENCH)
+        tau = self._zero_n if joint_torques is None else _read(joint_torques, n, "joint_torques", _PER_JOINT)
+        f_body = self._zero6 if body_wrench is None else _read(body_wrench, 6, "body_wrench", _WRENCH)
+        f_ee = self._zero6 if ee_wrench is None else _read(ee_wrench, 6, "ee_wrench", _WRENCH)
         env = self._env if current is None and fluid_acceleration is None else \
             self._environment(current, fluid_acceleration)
-        out = np.empty(6 + n)
+        nu_dot, qdd = np.empty(6), np.empty(n)
         if not plant_forward(self.plant, state.quaternion, state.nu, state.q, state.qd, tau, f_body, f_ee, env,
-                             self.fixed_base, out):
+                             self.fixed_base, nu_dot, qdd):
             raise checks.overflow("the accelerations", {
                 "state.nu": state.nu, "state.qd": state.qd, "joint_torques": tau, "body_wrench": f_body,
                 "ee_wrench": f_ee, "current": env[0], "fluid_acceleration": env[1]})
-        return Accelerations.trusted(out[:6], out[6:])
+        return Accelerations.trusted(nu_dot, qdd)
 
     def inverse(self, state, *, nu_dot, qdd, ee_wrench=None, current=None,
                 fluid_acceleration=None) -> tuple[np.ndarray, np.ndarray]:

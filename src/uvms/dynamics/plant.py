@@ -182,15 +182,16 @@ def _rotation(plant, quaternion):
 
 
 @njit(cache=True)
-def plant_forward(plant, quaternion, nu, q, qd, tau, f_body, f_ee, env, fixed_base, out):
-    """:func:`forward_into` for a state given by its quaternion into ``out = [nu_dot (6) | qdd (n)]``; ``env``
-    (2, 3) holds the world-frame current [m/s] and fluid acceleration [m/s^2]. Returns whether every
-    acceleration is finite."""
+def plant_forward(plant, quaternion, nu, q, qd, tau, f_body, f_ee, env, fixed_base, nu_dot, qdd):
+    """:func:`forward_into` for a state given by its quaternion; ``env`` (2, 3) holds the world-frame current
+    [m/s] and fluid acceleration [m/s^2]. Returns whether every acceleration is finite."""
     R = _rotation(plant, quaternion)
-    n = q.shape[0]
-    aba(plant.body, plant.work, R, nu, q, qd, tau, f_body, f_ee, env[0], env[1], fixed_base, out[0:6], out[6:6 + n])
-    for k in range(6 + n):
-        if not np.isfinite(out[k]):
+    aba(plant.body, plant.work, R, nu, q, qd, tau, f_body, f_ee, env[0], env[1], fixed_base, nu_dot, qdd)
+    for k in range(6):
+        if not np.isfinite(nu_dot[k]):
+            return False
+    for k in range(qdd.shape[0]):
+        if not np.isfinite(qdd[k]):
             return False
     return True
 
