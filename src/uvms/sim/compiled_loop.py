@@ -134,7 +134,7 @@ def _update(plant, held, control, schedule, x, done):
             k += 1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def advance(plant, held, control, schedule, record, log, x, start, stop):
     """Advance ``x`` from global step ``start`` to ``stop`` (module docstring). Returns ``(done, code)``:
     ``code`` 0, or :func:`~uvms.sim.integrate.check_state`'s code of the step that left the sane range."""
