@@ -142,7 +142,6 @@ def case_metrics(result, fixed, *, bandwidth: float = PAPER_LAMBDA, phi: float =
         command = f"command_{COMMAND_OF_AXIS[axis]}"
         out["peak_command"][axis] = or_zero(series.metric(f"max_abs_{command}"))
         out["command_sign_changes"][axis] = int(or_zero(series.metric(f"sign_changes_{command}")))
-    out["health"] = series.health().as_dict()
     return out
 
 
@@ -608,9 +607,9 @@ def _chatter(controlled, small) -> dict:
             "small": {k: sign_changes(small.signals[f"command_{k}"]) for k in ("X", "Y", "N")}}
 
 
-def _health_words(case: dict) -> str:
-    """A case's run health (:mod:`uvms.sim.health`) in a few words: ``healthy`` or its warning."""
-    health = case.get("health") or {}
+def _health_words(health: dict) -> str:
+    """A case's run health (:mod:`uvms.sim.health`, ``metrics["health"][case]``) in a few words: ``healthy`` or
+    its warning."""
     if not health:
         return "-"
     return "healthy" if health["healthy"] else health["warning"]
@@ -644,7 +643,8 @@ def _reproduce_into(out: Path, actuators: str, compare: bool, progress, wall0: f
     results = run(model, actuators=actuators, progress=progress)
     fixed = results["fixed"]
     metrics: dict[str, Any] = {"epsilon_m": PAPER_PHI / PAPER_LAMBDA, "actuators": actuators,
-                               "cases": {name: case_metrics(res, fixed) for name, res in results.items()}}
+                               "cases": {name: case_metrics(res, fixed) for name, res in results.items()},
+                               "health": {name: res.health().as_dict() for name, res in results.items()}}
     say("chatter check: Phi / 100")
     extra = {"controlled_phi_small": _simulate_case(model, "controlled", actuators, boundary_layer=PAPER_PHI / 100)}
     chatter = _chatter(results["controlled"], extra["controlled_phi_small"])
@@ -662,6 +662,7 @@ def _reproduce_into(out: Path, actuators: str, compare: bool, progress, wall0: f
         pl_metrics = {"epsilon_m": metrics["epsilon_m"], "actuators": "paper-layout",
                       "cases": {"fixed": metrics["cases"]["fixed"], "released": metrics["cases"]["released"],
                                 "controlled": case_metrics(pl, fixed)},
+                      "health": {**metrics["health"], "controlled": pl.health().as_dict()},
                       "plant_b": plant_effective_inertia(model, pl)}
         pl_chatter = _chatter(pl, extra["controlled_paper_layout_phi_small"])
         unachieved = pl.signals.get("unachieved_Y")
@@ -833,8 +834,9 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
                           f"{math.degrees(c['peak_abs_yaw_rad']):.3g}", f"{c['peak_body_error_xy_m'] * 1e3:.3g}",
                           f"{c['peak_ee_deviation_m'] * 1e3:.3g}",
                           ", ".join(f"{c['max_abs_s'][a] / PAPER_PHI:.3g}" for a in AXES)])
-    health = "; ".join(f"{name}: {_health_words(c)}" for name, c in metrics["cases"].items())
-    limits = (metrics["cases"]["controlled"].get("health") or {}).get("limits") or {
+    by_case = metrics.get("health") or {}
+    health = "; ".join(f"{name}: {_health_words(by_case.get(name) or {})}" for name in metrics["cases"])
+    limits = (by_case.get("controlled") or {}).get("limits") or {
         "attitude_limit_rad": math.nan, "saturation_limit": math.nan}
     sections.append(Section("Cases", [Table(
         ["case", "peak abs x [mm]", "peak abs y [mm]", "peak abs yaw [deg]", "peak body xy error [mm]",
