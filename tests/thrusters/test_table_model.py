@@ -12,6 +12,7 @@ from uvms.cli import main
 from uvms.errors import UvmsInputError
 from uvms.sim.run import Actuation, simulate
 from uvms.thrusters.table import STANDARD_GRAVITY, table_thrust
+from tests.helpers import assert_model_file_refused
 
 from ..sim.test_actuation import ConstantWrench
 
@@ -93,11 +94,7 @@ def test_table_thruster_in_the_loop_delivers_the_wanted_thrust_with_its_lag(tmp_
 ])
 def test_bad_table_is_one_line(tmp_path, capsys, entry, field):
     path = write_model(tmp_path, [entry])
-    with pytest.raises(UvmsInputError) as info:
-        uvms.load_model(path)
-    text = str(info.value)
-    assert "\n" not in text and str(path) in text and field in text, text
-    assert main(["validate", str(path)]) == 2
+    assert_model_file_refused(path, field)
 
 
 def test_csv_that_does_not_parse_names_the_csv_and_line(tmp_path):
