@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
-from numba import njit
+from uvms.dynamics.jit import kernel
 
 from uvms.dynamics.plant import ModelData, inverse_into, model_data
 from uvms.errors import UvmsInputError
@@ -230,7 +230,7 @@ def _python_torques(data: ArmData, time: float, state) -> np.ndarray:
     return tau
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _interval(breaks, t):
     """``i`` with ``breaks[i] <= t < breaks[i + 1]``, the last interval closed on the right."""
     last = breaks.shape[0] - 2
@@ -246,7 +246,7 @@ def _interval(breaks, t):
     return lo
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _piece(coefficients, i, j, s, order):
     """Derivative ``order`` (0, 1, 2) of ``sum_k c[K-1-k] s^k`` on piece ``i`` for joint ``j``, the power of
     ``s`` raised term by term (the arithmetic of scipy's piecewise-polynomial evaluation)."""
@@ -264,7 +264,7 @@ def _piece(coefficients, i, j, s, order):
     return value
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def desired_motion(times, angles, breaks, coefficients, t, q_d, qd_d, qdd_d):
     """The clamped cubic spline's ``(q_d, qd_d, qdd_d)`` at ``t``: the end angles at rest outside
     ``(times[0], times[-1])`` and for a single knot (:class:`JointTrajectory`)."""
@@ -284,7 +284,7 @@ def desired_motion(times, angles, breaks, coefficients, t, q_d, qd_d, qdd_d):
         qdd_d[j] = _piece(coefficients, i, j, s, 2)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def arm_torques(arm, t, x, tau):
     """The joint torques ``tau`` (n,) [N m] at time ``t`` [s] for the state vector ``x``
     (:mod:`uvms.sim.integrate` layout)::

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from uvms.dynamics.jit import kernel
 
 from uvms.control.base import Measurement
 
@@ -71,7 +71,7 @@ def imu_data(parameters: ImuParameters, period: float, n_samples: int) -> ImuDat
                    out=np.zeros(6))
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def imu_measure(imu, nu, nu_dot_true):
     """One sample (module docstring) into ``imu.out``: the raw sample (``nu_dot_true``, or
     ``(nu - nu_previous) / period``, 0 at the first) through the delay line (filled with the first sample),

@@ -26,11 +26,14 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from uvms.control import sliding_kernels as sk
 from uvms.control.imu import ImuData, ImuParameters, imu_data, imu_measure
+from uvms.dynamics.blocks import cholesky_factor, cholesky_solve
+from uvms.dynamics.jit import block, kernel
 from uvms.dynamics.plant import ModelData, forward_into, inverse_into, mass_matrix_into, model_data
+from uvms.kinematics import normalised_rotation
+from uvms.rotations import euler_zyx
 
 NONE, SLIDING, PID = 0, 1, 2
 """Controller kinds."""
@@ -83,6 +86,9 @@ class ControllerData(NamedTuple):
     qdd: np.ndarray             # (n,) scratch
     tau_scratch: np.ndarray     # (n,) scratch
     M: np.ndarray               # (6 + n, 6 + n) scratch (NE)
+    L: np.ndarray               # (6 + n, 6 + n) scratch: Cholesky factors (b from the model, NE)
+    column: np.ndarray          # (6 + n,) scratch: right-hand sides and solutions
+    inverse_diagonal: np.ndarray  # (6,) scratch: the diagonal of the controller model's inverse inertia
     f_system: np.ndarray        # (6,) scratch (NE)
     f_vehicle: np.ndarray       # (6,) scratch (NE)
     zero6: np.ndarray           # (6,) zeros
@@ -120,7 +126,7 @@ def _template_model():
 def _state_scratch(n: int) -> dict:
     return dict(R=np.zeros((3, 3)), kin=np.zeros((sk.N_KIN_ROWS, 6)), nu_dot=np.zeros(6), f_hat=np.zeros(6),
                 b_hat=np.zeros(6), beta=np.zeros(6), qdd=np.zeros(n), tau_scratch=np.zeros(n),
-                M=np.zeros((6 + n, 6 + n)), f_system=np.zeros(6), f_vehicle=np.zeros(6), zero6=np.zeros(6),
+                M=np.zeros((6 + n, 6 + n)), L=np.zeros((6 + n, 6 + n)), column=np.zeros(6 + n), inverse_diagonal=np.zeros(6), f_system=np.zeros(6), f_vehicle=np.zeros(6), zero6=np.zeros(6),
                 empty=np.zeros(0))
 
 
@@ -172,7 +178,7 @@ def no_controller() -> ControllerData:
 # ------------------------------------------------------------------------------------------ the kernels
 
 
-@njit(cache=True, nogil=True, inline="always")
+@block
 def _set_point(ctrl, t, x):
     """The first update captures the pose; the set point is the last waypoint whose time has come, its NaN
     entries replaced by the captured pose."""
@@ -180,7 +186,8 @@ def _set_point(ctrl, t, x):
     if count == 0:
         for j in range(3):
             ctrl.captured[j] = x[j]
-        phi, theta, psi = sk.euler_of_quaternion(x[3], x[4], x[5], x[6])
+        normalised_rotation(x[3:7], ctrl.R)       # the arithmetic of State.euler
+        phi, theta, psi = euler_zyx(ctrl.R)
         ctrl.captured[3] = phi
         ctrl.captured[4] = theta
         ctrl.captured[5] = psi
@@ -193,7 +200,7 @@ def _set_point(ctrl, t, x):
         ctrl.desired[j] = ctrl.captured[j] if math.isnan(value) else value
 
 
-@njit(cache=True, nogil=True, inline="always")
+@block
 def arm_reaction(ctrl, x, tau, a0, out):
     """The wrench (6,) the arm exerts on the vehicle moving with ``nu`` and ``a0`` (:mod:`uvms.control.smc_ne`)::
 
@@ -209,12 +216,11 @@ def arm_reaction(ctrl, x, tau, a0, out):
     inverse_into(ctrl.system, ctrl.R, nu, q, qd, a0, ctrl.qdd, zero6, vc, af, ctrl.f_system, ctrl.tau_scratch)
     if n > 0:
         mass_matrix_into(ctrl.system, q, ctrl.M)
-        rhs = np.empty(n)
         for i in range(n):
-            rhs[i] = tau[i] - ctrl.tau_scratch[i]
-        qdd = np.linalg.solve(ctrl.M[6:, 6:], rhs)
-        for i in range(n):
-            ctrl.qdd[i] = qdd[i]
+            ctrl.qdd[i] = tau[i] - ctrl.tau_scratch[i]
+        L = ctrl.L[:n, :n]
+        cholesky_factor(ctrl.M[6:, 6:], L)
+        cholesky_solve(L, ctrl.qdd, ctrl.qdd)
     inverse_into(ctrl.system, ctrl.R, nu, q, qd, a0, ctrl.qdd, zero6, vc, af, ctrl.f_system, ctrl.tau_scratch)
     inverse_into(ctrl.vehicle, ctrl.R, nu, ctrl.empty, ctrl.empty, a0, ctrl.empty, zero6, vc, af, ctrl.f_vehicle,
                  ctrl.empty)
@@ -222,7 +228,7 @@ def arm_reaction(ctrl, x, tau, a0, out):
         out[j] = ctrl.f_vehicle[j] - ctrl.f_system[j]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@block
 def _predict(ctrl, x, tau, nu_dot_true):
     """The controller model's ``nu_dot`` at ``f_0 = 0`` into ``ctrl.nu_dot``; returns the 6x6 inertia mapping
     a body wrench to ``nu_dot`` in that model (for ``b_source = "model"``)."""
@@ -242,17 +248,30 @@ def _predict(ctrl, x, tau, nu_dot_true):
     return ctrl.vehicle.body.inertia_h[0]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@block
+def _inverse_diagonal(A, L, column, out):
+    """``out[j] = (A^-1)_jj`` for a symmetric positive-definite 6x6 ``A`` (``L``, ``column``: scratch):
+    ``A^-1 e_j`` by Cholesky, one column at a time."""
+    cholesky_factor(A, L)
+    for j in range(6):
+        for i in range(6):
+            column[i] = 1.0 if i == j else 0.0
+        cholesky_solve(L, column, column)
+        out[j] = column[j]
+
+
+@block
 def _sliding_mode(ctrl, x, tau, nu_dot_true, wrench):
     inertia = _predict(ctrl, x, tau, nu_dot_true)
     need_model = ctrl.b_from_model
     for a in ctrl.axes:
         if ctrl.gains[a, B_MODEL] > 0.0:
             need_model = True
-    inverse = np.linalg.inv(inertia) if need_model else inertia
+    if need_model:
+        _inverse_diagonal(inertia, ctrl.L[:6, :6], ctrl.column[:6], ctrl.inverse_diagonal)
     for a in range(6):
         if ctrl.b_from_model or ctrl.gains[a, B_MODEL] > 0.0:
-            ctrl.b_hat[a] = 1.0 / inverse[sk.WRENCH_INDEX[a], sk.WRENCH_INDEX[a]]   # 1 / (I^-1)_jj
+            ctrl.b_hat[a] = 1.0 / ctrl.inverse_diagonal[sk.WRENCH_INDEX[a]]       # 1 / (I^-1)_jj
             ctrl.beta[a] = ctrl.beta_model
         else:
             ctrl.b_hat[a] = ctrl.gains[a, B_HAT]
@@ -285,12 +304,12 @@ def _sliding_mode(ctrl, x, tau, nu_dot_true, wrench):
             i += 1
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _sign(value):
     return 1.0 if value > 0.0 else (-1.0 if value < 0.0 else 0.0)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@block
 def _pid(ctrl, wrench):
     """``f = -(kp e + ki z + kd e_dot)`` clipped to the limit, clamping anti-windup (:mod:`uvms.control.pid`)."""
     i = 0
@@ -316,7 +335,7 @@ def _pid(ctrl, wrench):
         i += 3
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def controller_update(ctrl, t, x, tau, nu_dot_true, wrench):
     """One update at time ``t`` [s] for the state vector ``x`` and the joint torques ``tau`` (n,) about to be
     applied (``nu_dot_true`` (6,), the true body acceleration, is read only if ``ctrl.needs_acceleration``):

@@ -25,7 +25,8 @@ import math
 import numpy as np
 from numba import njit
 
-from uvms.kinematics import normalised_rotation, quaternion_to_rotation
+from uvms.dynamics.jit import block, kernel
+from uvms.kinematics import quaternion_to_rotation
 from uvms.rotations import euler_zyx
 
 ERROR, ERROR_RATE, VELOCITY, ERROR3, RATE3, OMEGA, EULER = range(7)
@@ -33,7 +34,7 @@ N_KINEMATICS_ROWS = 7
 
 
 
-@njit(cache=True, nogil=True, inline="always")
+@block
 def wrap(angle):
     """``angle`` wrapped to (-pi, pi] [rad]."""
     return -((-angle + math.pi) % (2.0 * math.pi) - math.pi)
@@ -51,16 +52,7 @@ N_KIN_ROWS = 5
 POSITION, ANGULAR = 3, 4
 
 
-@njit(cache=True, nogil=True)
-def euler_of_quaternion(qw, qx, qy, qz):
-    """ZYX Euler angles of a quaternion, with the arithmetic of :meth:`uvms.state.State.euler` (normalised by
-    ``s = 1 / |q|``, :func:`uvms.kinematics.normalised_rotation`)."""
-    R = np.empty((3, 3))
-    normalised_rotation(np.array([qw, qx, qy, qz]), R)
-    return euler_zyx(R)
-
-
-@njit(cache=True, nogil=True)
+@kernel
 def pose_kinematics_into(quaternion, position, nu, desired, R, kin):
     """Body-to-world ``R`` (3x3) of ``quaternion`` (normalised here) and the pose kinematics ``kin``
     (N_KIN_ROWS, 6) of a pose and body velocity ``nu = [omega; v]`` for the world set point ``desired`` =
@@ -99,7 +91,7 @@ def pose_kinematics_into(quaternion, position, nu, desired, R, kin):
             kin[r, j] = row[j]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def surface_accelerations(kin, nu_dot, body_velocity, out):
     """Time derivatives (6,) by axis slot of the surface's ``vel`` for a body acceleration
     ``nu_dot = [omega_dot; v_dot]``: the body accelerations ``(u_dot, v_dot, w_dot, p_dot, q_dot, r_dot)``, or for
@@ -133,7 +125,7 @@ def surface_accelerations(kin, nu_dot, body_velocity, out):
     out[5] = psi_ddot
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def surface_input_gain(kin, body_velocity, axis):
     """How an axis slot's surface acceleration responds per unit of ``command / b``: 1, except on the
     error-rate surface ``cos(phi) / cos(theta)`` for yaw (``psi_ddot``) and ``cos(phi)`` for pitch."""
@@ -186,7 +178,7 @@ def axis_accelerations(kin, nu_dot, body_velocity, out):
         out[c] = acc[_PAPER_SLOTS[c]]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def slotine(error, rate, f_hat, bandwidth, eta, boundary_layer, uncertainty, b_hat, beta, rate_desired,
             acc_desired, error_rate):
     """One axis of Slotine's law (Eqs. 26-29 as corrected in the conventions): ``(s, k, u_hat, command)``.

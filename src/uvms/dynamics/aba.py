@@ -25,10 +25,10 @@ left in ``ws.a`` (read by :mod:`uvms.dynamics.inspect`). Transforms are applied 
 
 from __future__ import annotations
 
-from uvms.dynamics.jit import kernel
-
 from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, transform_force_add, transform_motion
-from uvms.dynamics.jit import kernel
+from numba import njit
+
+from uvms.dynamics.jit import OPTIONS, kernel
 from uvms.dynamics.kernel_model import JOINT_Z, Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass
 
@@ -110,3 +110,9 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
         else:
             for k in range(6):
                 ai[k] += km.S[i, k] * qddi
+
+
+aba_inlined = njit(forceinline=True, **OPTIONS)(aba.py_func)
+"""The same :func:`aba`, inlined into its caller (the RK4 stage, :func:`uvms.sim.integrate.state_derivative`):
+a call passes the model and workspace (~70 arrays) as arguments, which costs about 0.2 us of a 1.3 us
+evaluation (measured on the paper model)."""

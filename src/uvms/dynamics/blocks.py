@@ -173,27 +173,44 @@ def congruence_add_plucker(E, r, I, out, tmp):
 
 
 @block
-def cholesky_solve6(A, b, L, out):
-    """Solve ``A out = b`` for a symmetric positive-definite 6x6 ``A`` (Cholesky; ``L`` is scratch)."""
-    for j in range(6):
+def cholesky_factor(A, L):
+    """The lower Cholesky factor ``L`` of a symmetric positive-definite ``A`` (k x k, lower triangle read;
+    ``A = L L^T``, Golub & Van Loan, Algorithm 4.2.1). A pivot that is not positive is set to NaN, which
+    propagates to every result (the callers' finiteness checks catch it)."""
+    k = A.shape[0]
+    for j in range(k):
         s = A[j, j]
-        for k in range(j):
-            s -= L[j, k] * L[j, k]
+        for m in range(j):
+            s -= L[j, m] * L[j, m]
         if s <= 0.0:
             s = np.nan
         L[j, j] = np.sqrt(s)
-        for i in range(j + 1, 6):
+        for i in range(j + 1, k):
             t = A[i, j]
-            for k in range(j):
-                t -= L[i, k] * L[j, k]
+            for m in range(j):
+                t -= L[i, m] * L[j, m]
             L[i, j] = t / L[j, j]
-    for i in range(6):
+
+
+@block
+def cholesky_solve(L, b, out):
+    """Solve ``L L^T out = b`` by forward and back substitution (``L`` from :func:`cholesky_factor`; ``out``
+    may alias ``b``)."""
+    k = L.shape[0]
+    for i in range(k):
         t = b[i]
-        for k in range(i):
-            t -= L[i, k] * out[k]
+        for m in range(i):
+            t -= L[i, m] * out[m]
         out[i] = t / L[i, i]
-    for i in range(5, -1, -1):
+    for i in range(k - 1, -1, -1):
         t = out[i]
-        for k in range(i + 1, 6):
-            t -= L[k, i] * out[k]
+        for m in range(i + 1, k):
+            t -= L[m, i] * out[m]
         out[i] = t / L[i, i]
+
+
+@block
+def cholesky_solve6(A, b, L, out):
+    """Solve ``A out = b`` for a symmetric positive-definite 6x6 ``A`` (``L`` is 6x6 scratch)."""
+    cholesky_factor(A, L)
+    cholesky_solve(L, b, out)

@@ -20,12 +20,13 @@ def joint_limit_crossings(model, time, q, qd, tau) -> list[str]:
     for k, name in enumerate(model.joint_names):
         lower, upper, effort, velocity = limits[k]
         checks = (
-            ("position", q[:, k], (q[:, k] < lower) | (q[:, k] > upper), f"[{lower:g}, {upper:g}]"),
-            ("velocity", qd[:, k], np.abs(qd[:, k]) > velocity, f"+/-{velocity:g}"),
-            ("effort", tau[:, k], np.abs(tau[:, k]) > effort, f"+/-{effort:g}"),
-        )
+            ("position", q[:, k], None if lower == -np.inf and upper == np.inf else
+             (q[:, k] < lower) | (q[:, k] > upper), f"[{lower:g}, {upper:g}]"),
+            ("velocity", qd[:, k], None if velocity == np.inf else np.abs(qd[:, k]) > velocity, f"+/-{velocity:g}"),
+            ("effort", tau[:, k], None if effort == np.inf else np.abs(tau[:, k]) > effort, f"+/-{effort:g}"),
+        )                                   # None: no limit given (inf), nothing to compare
         for what, values, outside, bounds in checks:
-            if np.any(outside):
+            if outside is not None and np.any(outside):
                 first = int(np.argmax(outside))
                 lines.append(f"joint {name!r} crossed its {what} limit {bounds} at t = {time[first]:.6g} s "
                              f"(range in the run: {values.min():.6g} to {values.max():.6g})")

@@ -24,8 +24,9 @@ from numba.experimental import structref
 
 from uvms.control.arm import arm_torques
 from uvms.control.kernels import controller_update
+from uvms.dynamics.jit import kernel
 from uvms.dynamics.plant import plant_data
-from uvms.sim.integrate import rk4_steps, state_derivative
+from uvms.sim.integrate import derivative_kernel, rk4_steps
 from uvms.thrusters.command import allocate_command
 
 
@@ -118,7 +119,7 @@ def _update(plant, held, control, schedule, x, done):
     if schedule.control_every > 0 and done % schedule.control_every == 0:
         ctrl = control.controller
         if ctrl.needs_acceleration:
-            state_derivative(plant, held, t, x, control.xdot)
+            derivative_kernel(plant, held, t, x, control.xdot)
         controller_update(ctrl, t, x, held.joint_torques, control.xdot[7:13], control.wrench)
         allocate_command(control.allocation, control.wrench, held.command, control.allocation_signals)
         s = control.signals
@@ -134,19 +135,23 @@ def _update(plant, held, control, schedule, x, done):
             k += 1
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel
 def advance(plant, held, control, schedule, record, log, x, start, stop):
-    """Advance ``x`` from global step ``start`` to ``stop`` (module docstring). Returns ``(done, code)``:
-    ``code`` 0, or :func:`~uvms.sim.integrate.check_state`'s code of the step that left the sane range."""
+    """Advance ``x`` from global step ``start`` to ``stop`` (module docstring) on a plant's
+    :class:`~uvms.dynamics.plant.PlantData`. Returns ``(done, code)``: ``code`` 0, or
+    :func:`~uvms.sim.integrate.check_state`'s code of the step that left the sane range.
+
+    A kernel (:mod:`uvms.dynamics.jit`: no reference counting): taking the controller's ~170 arrays out of
+    ``control`` in a reference-counted function costs an atomic increment and decrement each at every update,
+    several times the cost of the update itself."""
     done = start
     h = schedule.h
-    data = plant_data(plant)                # read once: the RK4 kernel takes it without reference counting
     while done < stop:
         if _is_event(schedule, done):
             _update(plant, held, control, schedule, x, done)
             _log_update(log, record.every, done, held.joint_torques, control.signals)
         nxt = _next_event(schedule, done, stop)
-        k, code = rk4_steps(data, held, x, 0.0, h, nxt - done, done, record)
+        k, code = rk4_steps(plant, held, x, 0.0, h, nxt - done, done, record)
         done += k
         if code != 0:
             return done, code
@@ -177,8 +182,8 @@ def _new_loop(plant, held, control, schedule, record, log, x):
 
 @njit(cache=True, nogil=True)
 def advance_loop(loop, start, stop):
-    """:func:`advance` on a :class:`Loop`."""
-    return advance(loop.plant, loop.held, loop.control, loop.schedule, loop.record, loop.log, loop.x, start, stop)
+    """:func:`advance` on a :class:`Loop` (its plant read once into the named tuple the kernels take)."""
+    return advance(plant_data(loop.plant), loop.held, loop.control, loop.schedule, loop.record, loop.log, loop.x, start, stop)
 
 
 # ----------------------------------------------------------------------------------------- the Python side
@@ -256,7 +261,8 @@ class CompiledLog:
     def held(self, which: np.ndarray) -> dict[str, np.ndarray]:
         """Each signal's value at every recorded row (the update ``which[r]`` holding row ``r``)."""
         order = sorted(range(len(self._names)), key=lambda j: self._names[j])
-        return {self._names[j]: self._signals[which, j] for j in order}
+        columns = np.ascontiguousarray(self._signals[which].T)       # one gather, then a row per signal
+        return {self._names[j]: columns[j] for j in order}
 
 
 def run_compiled(plan, chunking):

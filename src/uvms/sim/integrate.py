@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from uvms.dynamics.aba import aba
+from uvms.dynamics.aba import aba_inlined
 from uvms.dynamics.jit import block, kernel
 from uvms.dynamics.plant import plant_data
 from uvms.kinematics import quaternion_to_rotation
@@ -157,7 +157,7 @@ def state_derivative(plant, held, t, x, xdot):
     fixed_base = plant.fixed_base
     for k in range(6):
         nu[k] = 0.0 if fixed_base else x[7 + k]
-    aba(body, plant.work, R, nu, x[13:13 + n], x[13 + n:13 + 2 * n], held.joint_torques, f_body, held.ee_wrench,
+    aba_inlined(body, plant.work, R, nu, x[13:13 + n], x[13 + n:13 + 2 * n], held.joint_torques, f_body, held.ee_wrench,
         vc, af, fixed_base, xdot[7:13], xdot[13 + n:13 + 2 * n])
     w0, w1, w2 = nu[0], nu[1], nu[2]
     for r in range(3):
@@ -170,10 +170,18 @@ def state_derivative(plant, held, t, x, xdot):
         xdot[13 + j] = x[13 + n + j]
 
 
+@kernel
+def derivative_kernel(plant, held, t, x, xdot):
+    """:func:`state_derivative` on a :class:`~uvms.dynamics.plant.PlantData` as a function of its own: the one
+    compiled copy (with its inlined ABA) for every caller outside the RK4 loop."""
+    state_derivative(plant, held, t, x, xdot)
+
+
 @njit(cache=True)
 def derivative(plant, held, t, x, xdot):
-    """:func:`state_derivative`, callable from Python (the adaptive integrators, sensor models)."""
-    state_derivative(plant, held, t, x, xdot)
+    """:func:`state_derivative` on a :class:`~uvms.dynamics.plant.Plant`, callable from Python (the adaptive
+    integrators, sensor models)."""
+    derivative_kernel(plant_data(plant), held, t, x, xdot)
 
 
 @kernel
@@ -232,16 +240,19 @@ def rk4_steps(plant, held, x, t0, h, n_steps, step0, record):
     out_x = record.states
     for step in range(n_steps):
         t = t0 + (step0 + step) * h
-        state_derivative(plant, held, t, x, k1)
-        for k in range(N):
-            xt[k] = x[k] + 0.5 * h * k1[k]
-        state_derivative(plant, held, t + 0.5 * h, xt, k2)
-        for k in range(N):
-            xt[k] = x[k] + 0.5 * h * k2[k]
-        state_derivative(plant, held, t + 0.5 * h, xt, k3)
-        for k in range(N):
-            xt[k] = x[k] + h * k3[k]
-        state_derivative(plant, held, t + h, xt, k4)
+        for stage in range(4):              # one call site, so the derivative (and its ABA) is inlined once
+            if stage == 0:
+                ts, xs = t, x
+            elif stage == 3:
+                ts, xs = t + h, xt
+            else:
+                ts, xs = t + 0.5 * h, xt
+            ks = stages[stage]
+            state_derivative(plant, held, ts, xs, ks)
+            if stage < 3:                   # the next stage's state: x + h/2 k1, x + h/2 k2, x + h k3
+                c = h if stage == 2 else 0.5 * h
+                for k in range(N):
+                    xt[k] = x[k] + c * ks[k]
         for k in range(N):
             x[k] += h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k])
         norm = np.sqrt(x[3] ** 2 + x[4] ** 2 + x[5] ** 2 + x[6] ** 2)
