@@ -72,6 +72,19 @@ class State:
         object.__setattr__(self, "q", q)
         object.__setattr__(self, "qd", _vector(self.qd, n, "qd", " (one per joint, as q)"))
         object.__setattr__(self, "actuator", _vector(self.actuator, None, "actuator"))
+        vector = np.concatenate([getattr(self, name) for name in _FIELDS])
+        vector.setflags(write=False)
+        start = 0
+        for name in _FIELDS:                 # every field a read-only view of the one vector
+            size = getattr(self, name).shape[0]
+            object.__setattr__(self, name, vector[start:start + size])
+            start += size
+        object.__setattr__(self, "_vector", vector)
+
+    _vector = None
+    """The fields packed in the simulation's layout ``[position | quaternion | nu | q | qd | actuator]``
+    (:mod:`uvms.sim.integrate`), read-only, of which the fields are views (``None`` for a :meth:`trusted` state
+    built from separate arrays): the compiled dynamics take it as one argument."""
 
     @classmethod
     def from_euler(cls, model, *, position=None, euler=None, nu=None, q=None, qd=None, actuator=None) -> "State":
@@ -93,12 +106,15 @@ class State:
         )
 
     @classmethod
-    def trusted(cls, position, quaternion, nu, q, qd, actuator) -> "State":
+    def trusted(cls, position, quaternion, nu, q, qd, actuator, vector=None) -> "State":
         """A state from read-only arrays the integrator produced (checked and normalised): no validation and
-        no copies. For the simulation loop only; user code should use the constructor or :meth:`from_euler`.
+        no copies; ``vector``: the packed array the fields are views of, if any (:attr:`_vector`). For the
+        simulation loop only; user code should use the constructor or :meth:`from_euler`.
         """
         obj = object.__new__(cls)
         obj.__dict__.update(position=position, quaternion=quaternion, nu=nu, q=q, qd=qd, actuator=actuator)
+        if vector is not None:
+            obj.__dict__["_vector"] = vector
         return obj
 
     @classmethod

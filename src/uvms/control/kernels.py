@@ -6,6 +6,9 @@ IMU's delay line and pre-drawn noise, the update counter) and its scratch -- and
 runs one update on the simulation's state vector ``x`` (layout of :mod:`uvms.sim.integrate`:
 ``[p(3) | quat(4) | nu(6) | q(n) | qd(n) | actuator states]``). The numba type of a ``ControllerData`` is the
 same for every kind (unused fields hold small dummy arrays), so a compiled loop calling it compiles once.
+Every function here is a kernel (:mod:`uvms.dynamics.jit`: no reference counting, no allocation; the two
+matrix inverses are in-place Cholesky solves into the named scratch ``L`` and ``column``), so an update costs
+about its own arithmetic (1.8 us for ``smc-ab`` on the paper model, of which 1.3 us are its ABA).
 
 Controller kinds (:data:`NONE`, :data:`SLIDING`, :data:`PID`) and, for the sliding-mode law, its model of
 the vehicle's acceleration (``predictor``)::
@@ -126,7 +129,8 @@ def _template_model():
 def _state_scratch(n: int) -> dict:
     return dict(R=np.zeros((3, 3)), kin=np.zeros((sk.N_KIN_ROWS, 6)), nu_dot=np.zeros(6), f_hat=np.zeros(6),
                 b_hat=np.zeros(6), beta=np.zeros(6), qdd=np.zeros(n), tau_scratch=np.zeros(n),
-                M=np.zeros((6 + n, 6 + n)), L=np.zeros((6 + n, 6 + n)), column=np.zeros(6 + n), inverse_diagonal=np.zeros(6), f_system=np.zeros(6), f_vehicle=np.zeros(6), zero6=np.zeros(6),
+                M=np.zeros((6 + n, 6 + n)), L=np.zeros((6 + n, 6 + n)), column=np.zeros(6 + n),
+                inverse_diagonal=np.zeros(6), f_system=np.zeros(6), f_vehicle=np.zeros(6), zero6=np.zeros(6),
                 empty=np.zeros(0))
 
 

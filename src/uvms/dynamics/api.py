@@ -14,11 +14,13 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from uvms import checks
 from uvms.dynamics.plant import build_plant, plant_forward, plant_inverse, plant_mass_matrix
+from uvms.state import State
 
 _SLOT = "_uvms_dynamics"
 """The model attribute holding a ``threading.local`` with each thread's :class:`Dynamics` of that model (used by
@@ -45,20 +47,20 @@ _PER_JOINT = " (one per joint)"
 
 
 def _read(value, size: int, name: str, what: str) -> np.ndarray:
-    """:func:`uvms.checks.vector` for an input the kernel only reads: a C-ordered float64 array of the right
-    shape and finite values is used as it is (no copy), anything else is converted and checked."""
+    """An input the kernel only reads: a C-ordered float64 array of the right shape is used as it is (no copy;
+    its values are checked only if the result is not finite, :meth:`Dynamics.forward`), anything else is
+    converted and checked by :func:`uvms.checks.vector`."""
     if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (size,) \
             and value.flags.c_contiguous:
-        total = sum(value.tolist())
-        if total - total == 0.0:
-            return value
+        return value
     return checks.vector(value, size, name, what)
+
+
 _WRENCH = " [moment; force]"
 
 
-@dataclass(frozen=True)
-class Accelerations:
-    """Result of :func:`forward_dynamics`.
+class Accelerations(NamedTuple):
+    """Result of :func:`forward_dynamics` (a named pair: ``nu_dot, qdd = forward_dynamics(...)`` also works).
 
     ``nu_dot`` (6): time derivative of the body velocity ``nu = [omega; v]`` (the spatial acceleration in
     body axes) [rad/s^2, m/s^2]; ``qdd`` (n): joint accelerations [rad/s^2].
@@ -66,13 +68,6 @@ class Accelerations:
 
     nu_dot: np.ndarray
     qdd: np.ndarray
-
-    @classmethod
-    def trusted(cls, nu_dot: np.ndarray, qdd: np.ndarray) -> "Accelerations":
-        """Built without the dataclass machinery (arrays the dynamics just wrote)."""
-        obj = object.__new__(cls)
-        obj.__dict__.update(nu_dot=nu_dot, qdd=qdd)
-        return obj
 
     @property
     def generalized(self) -> np.ndarray:
@@ -111,11 +106,12 @@ class Dynamics:
         self.model = checks.model(model)
         self.fixed_base = checks.flag(fixed_base, "fixed_base")
         self.plant, self.data = build_plant(model, fixed_base=self.fixed_base)
-        n = model.n_joints
+        n = self._n = model.n_joints
         self._zero6 = np.zeros(6)
         self._zero_n = np.zeros(n)
         self._env = np.array([model.current, model.fluid_acceleration], dtype=float)
-        self._no_inputs = np.concatenate([self._zero_n, self._zero6, self._zero6, self._env[0], self._env[1]])
+        self._no_wrenches = np.concatenate([self._zero6, self._zero6, self._env[0], self._env[1]])
+        """``[body wrench | ee wrench | current | fluid acceleration]`` of a call that gives none."""
 
     def __repr__(self) -> str:
         return f"Dynamics({self.model.name!r}, {self.model.n_joints} joints, fixed_base={self.fixed_base})"
@@ -128,14 +124,6 @@ class Dynamics:
             raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does "
                                             "not move")
         return y
-
-    def _environment(self, current, fluid_acceleration) -> np.ndarray:
-        env = self._env.copy()
-        if current is not None:
-            env[0] = checks.vector(current, 3, "current", " (world frame, m/s)")
-        if fluid_acceleration is not None:
-            env[1] = checks.vector(fluid_acceleration, 3, "fluid_acceleration", " (world frame, m/s^2)")
-        return env
 
     def _inputs(self, first: np.ndarray | None, middle, ee_wrench, current, fluid_acceleration) -> np.ndarray:
         """Packed inputs: ``first`` (joint torques, or nu_dot and qdd), a 6-vector ``middle`` (body wrench) or
@@ -159,23 +147,28 @@ class Dynamics:
             ee_wrench: (6,) spatial force on the end effector in end-effector axes (Eq. 14's ``f_ee``).
             current, fluid_acceleration: (3,) world-frame overrides of the model's environment.
         """
-        checks.state(self.model, state)
+        n = self._n
+        if type(state) is not State or state.q.shape[0] != n:      # the common case decided in two tests
+            checks.state(self.model, state)
         if self.fixed_base and np.any(state.nu != 0.0):
             raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does "
                                             "not move")
-        n = self.model.n_joints
         tau = self._zero_n if joint_torques is None else _read(joint_torques, n, "joint_torques", _PER_JOINT)
-        f_body = self._zero6 if body_wrench is None else _read(body_wrench, 6, "body_wrench", _WRENCH)
-        f_ee = self._zero6 if ee_wrench is None else _read(ee_wrench, 6, "ee_wrench", _WRENCH)
-        env = self._env if current is None and fluid_acceleration is None else \
-            self._environment(current, fluid_acceleration)
-        nu_dot, qdd = np.empty(6), np.empty(n)
-        if not plant_forward(self.plant, state.quaternion, state.nu, state.q, state.qd, tau, f_body, f_ee, env,
-                             self.fixed_base, nu_dot, qdd):
+        if body_wrench is None and ee_wrench is None and current is None and fluid_acceleration is None:
+            wrenches = self._no_wrenches
+        else:
+            wrenches = self._inputs(None, body_wrench, ee_wrench, current, fluid_acceleration)
+        x = state._vector
+        if x is None:                                   # a State.trusted of separate arrays
+            x = np.concatenate((state.position, state.quaternion, state.nu, state.q, state.qd))
+        out = np.empty(6 + n)
+        if not plant_forward(self.plant, x, tau, wrenches, self.fixed_base, out):
+            if not checks.finite(tau):                  # a NaN or infinity given: name it (raises)
+                checks.vector(tau, n, "joint_torques", _PER_JOINT)
             raise checks.overflow("the accelerations", {
-                "state.nu": state.nu, "state.qd": state.qd, "joint_torques": tau, "body_wrench": f_body,
-                "ee_wrench": f_ee, "current": env[0], "fluid_acceleration": env[1]})
-        return Accelerations.trusted(nu_dot, qdd)
+                "state.nu": state.nu, "state.qd": state.qd, "joint_torques": tau, "body_wrench": wrenches[0:6],
+                "ee_wrench": wrenches[6:12], "current": wrenches[12:15], "fluid_acceleration": wrenches[15:18]})
+        return Accelerations(out[:6], out[6:])
 
     def inverse(self, state, *, nu_dot, qdd, ee_wrench=None, current=None,
                 fluid_acceleration=None) -> tuple[np.ndarray, np.ndarray]:
@@ -214,6 +207,8 @@ def forward_dynamics(model, state, *, joint_torques=None, body_wrench=None, ee_w
         dyn = Dynamics(model, fixed_base=fixed_base) if checks.flag(fixed_base, "fixed_base") else dynamics_of(model)
     else:
         dyn = dynamics_of(model)
+    if body_wrench is None and ee_wrench is None and current is None and fluid_acceleration is None:
+        return dyn.forward(state, joint_torques=joint_torques)          # (fewer keywords: the common call)
     return dyn.forward(state, joint_torques=joint_torques, body_wrench=body_wrench, ee_wrench=ee_wrench,
                        current=current, fluid_acceleration=fluid_acceleration)
 

@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit, types
 from numba.experimental import structref
 
-from uvms.dynamics.aba import aba
+from uvms.dynamics.aba import aba, aba_inlined
 from uvms.dynamics.crba import crba
 from uvms.dynamics.jit import kernel
 from uvms.dynamics.kernel_model import KernelModel, Workspace, make_workspace
@@ -182,16 +182,19 @@ def _rotation(plant, quaternion):
 
 
 @njit(cache=True)
-def plant_forward(plant, quaternion, nu, q, qd, tau, f_body, f_ee, env, fixed_base, nu_dot, qdd):
-    """:func:`forward_into` for a state given by its quaternion; ``env`` (2, 3) holds the world-frame current
-    [m/s] and fluid acceleration [m/s^2]. Returns whether every acceleration is finite."""
-    R = _rotation(plant, quaternion)
-    aba(plant.body, plant.work, R, nu, q, qd, tau, f_body, f_ee, env[0], env[1], fixed_base, nu_dot, qdd)
-    for k in range(6):
-        if not np.isfinite(nu_dot[k]):
-            return False
-    for k in range(qdd.shape[0]):
-        if not np.isfinite(qdd[k]):
+def plant_forward(plant, x, tau, wrenches, fixed_base, out):
+    """:func:`forward_into` for a state vector ``x`` (layout of :mod:`uvms.sim.integrate`: ``[p | quaternion |
+    nu | q | qd | ...]``), into ``out = [nu_dot (6) | qdd (n)]``; ``wrenches = [body wrench (6) | end-effector
+    wrench (6) | current (3) | fluid acceleration (3)]`` (world-frame current [m/s] and fluid acceleration
+    [m/s^2]). Returns whether every acceleration is finite. The ABA is inlined (``aba_inlined``): the call from
+    Python is the hot path of :func:`uvms.forward_dynamics`."""
+    n = out.shape[0] - 6
+    R = plant.scratch.R
+    normalised_rotation(x[3:7], R)
+    aba_inlined(plant.body, plant.work, R, x[7:13], x[13:13 + n], x[13 + n:13 + 2 * n], tau, wrenches[0:6],
+                wrenches[6:12], wrenches[12:15], wrenches[15:18], fixed_base, out[0:6], out[6:])
+    for k in range(out.shape[0]):
+        if not np.isfinite(out[k]):
             return False
     return True
 

@@ -183,7 +183,8 @@ def _new_loop(plant, held, control, schedule, record, log, x):
 @njit(cache=True, nogil=True)
 def advance_loop(loop, start, stop):
     """:func:`advance` on a :class:`Loop` (its plant read once into the named tuple the kernels take)."""
-    return advance(plant_data(loop.plant), loop.held, loop.control, loop.schedule, loop.record, loop.log, loop.x, start, stop)
+    return advance(plant_data(loop.plant), loop.held, loop.control, loop.schedule, loop.record, loop.log, loop.x,
+                   start, stop)
 
 
 # ----------------------------------------------------------------------------------------- the Python side

@@ -86,7 +86,7 @@ def unpack(x: np.ndarray, n_joints: int):
                         f"(uvms.sim.integrate layout), got {show(x)}")
     c = x.copy()
     c.flags.writeable = False
-    return State.trusted(c[0:3], c[3:7], c[7:13], c[13:13 + n], c[13 + n:13 + 2 * n], c[13 + 2 * n:])
+    return State.trusted(c[0:3], c[3:7], c[7:13], c[13:13 + n], c[13 + n:13 + 2 * n], c[13 + 2 * n:], c)
 
 
 class Samples(NamedTuple):
