@@ -94,3 +94,35 @@ def test_each_thread_has_its_own_owner_for_the_convenience_functions(paper, stat
     t.start()
     t.join()
     assert theirs[0] is not mine and theirs[0].model is paper
+
+
+def test_a_state_is_views_of_one_vector_in_the_simulation_layout(paper, state):
+    """The compiled dynamics take a state's packed vector; its fields are read-only views of it, in the layout of
+    :mod:`uvms.sim.integrate` (``pack``), and a ``State.trusted`` of separate arrays gives the same answer."""
+    from uvms.sim.integrate import pack, unpack
+
+    np.testing.assert_array_equal(state._vector, pack(state))
+    for name in ("position", "quaternion", "nu", "q", "qd", "actuator"):
+        assert getattr(state, name).base is state._vector
+    assert not state._vector.flags.writeable
+    tau = np.array([0.5, -1.0, 2.0])
+    ref = Dynamics(paper).forward(state, joint_torques=tau)
+    separate = uvms.State.trusted(*(np.array(getattr(state, k)) for k in ("position", "quaternion", "nu", "q",
+                                                                          "qd", "actuator")))
+    assert separate._vector is None
+    for other in (separate, unpack(pack(state), 3)):
+        acc = Dynamics(paper).forward(other, joint_torques=tau)
+        np.testing.assert_array_equal(acc.nu_dot, ref.nu_dot)
+        np.testing.assert_array_equal(acc.qdd, ref.qdd)
+
+
+def test_a_nan_torque_is_named_though_checked_only_after_the_kernel(paper, state):
+    """A float64 torque array of the right shape goes to the kernel unread; a NaN or infinity in it makes the
+    accelerations non-finite and the error then names ``joint_torques`` and the entry."""
+    d = Dynamics(paper)
+    for bad in (np.nan, np.inf, -np.inf):
+        tau = np.array([0.0, bad, 0.0])
+        with pytest.raises(UvmsInputError, match=r"^joint_torques: expected 3 finite values .* at index 1"):
+            d.forward(state, joint_torques=tau)
+    acc = d.forward(state, joint_torques=np.zeros(3))          # the workspace is fine afterwards
+    np.testing.assert_array_equal(acc.qdd, Dynamics(paper).forward(state).qdd)
