@@ -112,7 +112,11 @@ def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base
                 ai[k] += km.S[i, k] * qddi
 
 
-aba_inlined = njit(forceinline=True, **OPTIONS)(aba.py_func)
-"""The same :func:`aba`, inlined into its caller (the RK4 stage, :func:`uvms.sim.integrate.state_derivative`):
-a call passes the model and workspace (~70 arrays) as arguments, which costs about 0.2 us of a 1.3 us
-evaluation (measured on the paper model)."""
+aba_inlined = njit(forceinline=True, **{**OPTIONS, "cache": False})(aba.py_func)
+"""The same :func:`aba`, inlined by LLVM into its caller (the RK4 stage,
+:func:`uvms.sim.integrate.state_derivative`, and :func:`uvms.dynamics.plant.plant_forward`): a call passes the
+model and workspace (~70 arrays) as arguments, which costs about 0.2 us of a 1.3 us evaluation (measured on the
+paper model). Not cached on its own: LLVM inlines only a function whose IR it has, and numba keeps a cached
+function as object code, so a caller compiled after loading it would call it instead. The callers are cached
+(with the inlined copy); the price is about 20 s more in a process that compiles one of them. numba's
+``inline="always"`` would inline at its own IR level and always, but compiles each copy four times slower."""
