@@ -135,6 +135,19 @@ def test_workers_start_with_sigint_blocked(cluster):
     assert not sigint_blocked_at_start()  # this process's main thread still takes Ctrl-C
 
 
+def test_worker_processes_are_quiet_from_their_start_and_the_environment_is_restored(cluster):
+    """A starting worker takes its loggers' level from the environment when it imports distributed (before
+    its nanny's ``silence_logs``): critical only; this process's environment is as it was."""
+    import os
+
+    import dask
+
+    from uvms.sweep.cluster import CHILD_LOGGING
+
+    assert set(cluster.run(lambda: dask.config.get("logging.distributed")).values()) == {"critical"}
+    assert CHILD_LOGGING not in os.environ
+
+
 # ---------------------------------------------------------------------------------------------- Ctrl-C
 
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 import ipaddress
 import logging
 import multiprocessing
+import os
 import re
 import signal
 import subprocess
@@ -43,6 +44,27 @@ ADDRESS = re.compile(r"(?:(?P<protocol>[a-z]+)://)?(?P<host>\[[0-9a-fA-F:.]+\]|[
 """A Dask scheduler address: ``[protocol://]host:port``, an IPv6 host in brackets."""
 
 _LOGGERS = ("distributed", "tornado", "asyncio")
+
+
+CHILD_LOGGING = "DASK_LOGGING__DISTRIBUTED"
+"""The environment variable by which a worker process, when it imports distributed, takes its loggers' level
+(dask's configuration from the environment): set while the local cluster starts its processes."""
+
+
+@contextmanager
+def quiet_children() -> Iterator[None]:
+    """Worker processes started meanwhile log only critical messages from their first line on. A nanny's
+    ``silence_logs`` reaches its worker process only once that process runs, and a Ctrl-C in between made a
+    starting worker print distributed's INFO line about its closed connection under the one-line message."""
+    old = os.environ.get(CHILD_LOGGING)
+    os.environ[CHILD_LOGGING] = "critical"
+    try:
+        yield
+    finally:
+        if old is None:
+            os.environ.pop(CHILD_LOGGING, None)
+        else:
+            os.environ[CHILD_LOGGING] = old
 
 
 @contextmanager
@@ -137,7 +159,7 @@ def _local_cluster(layout: list[int], preload: list[str] | None) -> Iterator[Any
     client = None
     before = {child.pid for child in multiprocessing.active_children()}
     try:
-        with quiet_logs():
+        with quiet_logs(), quiet_children():
             runner = _loop_without_sigint()
             cluster = _Cluster(scheduler=scheduler, workers={k: worker_spec(t) for k, t in enumerate(layout)},
                                worker=worker,
