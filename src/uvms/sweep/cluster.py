@@ -12,7 +12,7 @@ A local cluster is started per sweep and is closed to everyone else (``docs/swee
   blocks SIGINT before it spawns anything, so the worker processes start with SIGINT blocked (a signal mask is
   inherited across fork and exec) and only the client's main thread reacts, even during start-up;
 - distributed's loggers are silenced while the cluster starts and stops (a worker torn down mid-start is not
-  an error worth 50 lines).
+  an error worth 50 lines), in the worker processes from their first line (:func:`quiet_children`).
 
 An external scheduler (``--scheduler``) is reached with the credentials given (``--tls-*`` files) or those of
 the Dask configuration (``distributed.comm.tls.*``); plain TCP to a host other than this machine's loopback
