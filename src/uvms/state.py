@@ -79,9 +79,9 @@ class State:
             size = getattr(self, name).shape[0]
             object.__setattr__(self, name, vector[start:start + size])
             start += size
-        object.__setattr__(self, "_vector", vector)
+        object.__setattr__(self, "_packed", vector)
 
-    _vector = None
+    _packed = None
     """The fields packed in the simulation's layout ``[position | quaternion | nu | q | qd | actuator]``
     (:mod:`uvms.sim.integrate`), read-only, of which the fields are views (``None`` for a :meth:`trusted` state
     built from separate arrays): the compiled dynamics take it as one argument."""
@@ -108,13 +108,13 @@ class State:
     @classmethod
     def trusted(cls, position, quaternion, nu, q, qd, actuator, vector=None) -> "State":
         """A state from read-only arrays the integrator produced (checked and normalised): no validation and
-        no copies; ``vector``: the packed array the fields are views of, if any (:attr:`_vector`). For the
+        no copies; ``vector``: the packed array the fields are views of, if any (:attr:`_packed`). For the
         simulation loop only; user code should use the constructor or :meth:`from_euler`.
         """
         obj = object.__new__(cls)
         obj.__dict__.update(position=position, quaternion=quaternion, nu=nu, q=q, qd=qd, actuator=actuator)
         if vector is not None:
-            obj.__dict__["_vector"] = vector
+            obj.__dict__["_packed"] = vector
         return obj
 
     @classmethod

@@ -101,15 +101,15 @@ def test_a_state_is_views_of_one_vector_in_the_simulation_layout(paper, state):
     :mod:`uvms.sim.integrate` (``pack``), and a ``State.trusted`` of separate arrays gives the same answer."""
     from uvms.sim.integrate import pack, unpack
 
-    np.testing.assert_array_equal(state._vector, pack(state))
+    np.testing.assert_array_equal(state._packed, pack(state))
     for name in ("position", "quaternion", "nu", "q", "qd", "actuator"):
-        assert getattr(state, name).base is state._vector
-    assert not state._vector.flags.writeable
+        assert getattr(state, name).base is state._packed
+    assert not state._packed.flags.writeable
     tau = np.array([0.5, -1.0, 2.0])
     ref = Dynamics(paper).forward(state, joint_torques=tau)
     separate = uvms.State.trusted(*(np.array(getattr(state, k)) for k in ("position", "quaternion", "nu", "q",
                                                                           "qd", "actuator")))
-    assert separate._vector is None
+    assert separate._packed is None
     for other in (separate, unpack(pack(state), 3)):
         acc = Dynamics(paper).forward(other, joint_torques=tau)
         np.testing.assert_array_equal(acc.nu_dot, ref.nu_dot)

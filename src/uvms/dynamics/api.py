@@ -116,14 +116,17 @@ class Dynamics:
     def __repr__(self) -> str:
         return f"Dynamics({self.model.name!r}, {self.model.n_joints} joints, fixed_base={self.fixed_base})"
 
-    def _pose(self, state) -> np.ndarray:
-        """The packed pose ``[quaternion | nu | q | qd]`` of a checked state."""
-        checks.state(self.model, state)
-        y = np.concatenate((state.quaternion, state.nu, state.q, state.qd))
-        if self.fixed_base and np.any(y[4:10] != 0.0):
+    def _state_vector(self, state) -> np.ndarray:
+        """The packed vector (simulation layout, :attr:`uvms.State._packed`) of a checked state."""
+        if type(state) is not State or state.q.shape[0] != self._n:      # the common case decided in two tests
+            checks.state(self.model, state)
+        if self.fixed_base and np.any(state.nu != 0.0):
             raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does "
                                             "not move")
-        return y
+        x = state._packed
+        if x is None:                                   # a State.trusted of separate arrays
+            x = np.concatenate((state.position, state.quaternion, state.nu, state.q, state.qd))
+        return x
 
     def _inputs(self, first: np.ndarray | None, middle, ee_wrench, current, fluid_acceleration) -> np.ndarray:
         """Packed inputs: ``first`` (joint torques, or nu_dot and qdd), a 6-vector ``middle`` (body wrench) or
@@ -147,20 +150,13 @@ class Dynamics:
             ee_wrench: (6,) spatial force on the end effector in end-effector axes (Eq. 14's ``f_ee``).
             current, fluid_acceleration: (3,) world-frame overrides of the model's environment.
         """
+        x = self._state_vector(state)
         n = self._n
-        if type(state) is not State or state.q.shape[0] != n:      # the common case decided in two tests
-            checks.state(self.model, state)
-        if self.fixed_base and np.any(state.nu != 0.0):
-            raise checks.fail("fixed_base", "True needs a vehicle at rest (state.nu == 0): a clamped vehicle does "
-                                            "not move")
         tau = self._zero_n if joint_torques is None else _read(joint_torques, n, "joint_torques", _PER_JOINT)
         if body_wrench is None and ee_wrench is None and current is None and fluid_acceleration is None:
             wrenches = self._no_wrenches
         else:
             wrenches = self._inputs(None, body_wrench, ee_wrench, current, fluid_acceleration)
-        x = state._vector
-        if x is None:                                   # a State.trusted of separate arrays
-            x = np.concatenate((state.position, state.quaternion, state.nu, state.q, state.qd))
         out = np.empty(6 + n)
         if not plant_forward(self.plant, x, tau, wrenches, self.fixed_base, out):
             if not checks.finite(tau):                  # a NaN or infinity given: name it (raises)
@@ -173,16 +169,16 @@ class Dynamics:
     def inverse(self, state, *, nu_dot, qdd, ee_wrench=None, current=None,
                 fluid_acceleration=None) -> tuple[np.ndarray, np.ndarray]:
         """The vehicle wrench (6,) and joint torques (n,) that produce ``nu_dot`` and ``qdd`` (RNEA)."""
-        y = self._pose(state)
-        n = self.model.n_joints
+        x = self._state_vector(state)
+        n = self._n
         accelerations = np.concatenate((checks.vector(nu_dot, 6, "nu_dot"), checks.vector(qdd, n, "qdd", _PER_JOINT)))
         u = self._inputs(accelerations, False, ee_wrench, current, fluid_acceleration)
         out = np.zeros(6 + n)
-        plant_inverse(self.plant, y, u, out)
+        plant_inverse(self.plant, x, u, out)
         total = sum(out.tolist())  # any NaN or inf makes the sum one: fast test
         if total - total != 0.0 and not checks.finite(out):
             raise checks.overflow("the wrench and torques", {
-                "state.nu": y[4:10], "state.qd": y[10 + n:], "nu_dot": u[:6], "qdd": u[6:6 + n],
+                "state.nu": state.nu, "state.qd": state.qd, "nu_dot": u[:6], "qdd": u[6:6 + n],
                 "ee_wrench": u[6 + n:12 + n], "current": u[12 + n:15 + n], "fluid_acceleration": u[15 + n:]})
         return out[:6], out[6:]
 

@@ -174,8 +174,9 @@ def mass_matrix_into(md, q, M):
     crba(md.body, md.work, q, M)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rotation(plant, quaternion):
+    """The plant's scratch rotation, set to the body-to-world rotation of ``quaternion`` (normalised)."""
     R = plant.scratch.R
     normalised_rotation(quaternion, R)
     return R
@@ -189,8 +190,7 @@ def plant_forward(plant, x, tau, wrenches, fixed_base, out):
     [m/s^2]). Returns whether every acceleration is finite. The ABA is inlined (``aba_inlined``): the call from
     Python is the hot path of :func:`uvms.forward_dynamics`."""
     n = out.shape[0] - 6
-    R = plant.scratch.R
-    normalised_rotation(x[3:7], R)
+    R = _rotation(plant, x[3:7])
     aba_inlined(plant.body, plant.work, R, x[7:13], x[13:13 + n], x[13 + n:13 + 2 * n], tau, wrenches[0:6],
                 wrenches[6:12], wrenches[12:15], wrenches[15:18], fixed_base, out[0:6], out[6:])
     for k in range(out.shape[0]):
@@ -200,12 +200,12 @@ def plant_forward(plant, x, tau, wrenches, fixed_base, out):
 
 
 @njit(cache=True)
-def plant_inverse(plant, y, u, out):
-    """``out = [f_0 (6) | tau (n)]`` by :func:`inverse_into` for the packed pose ``y`` and
-    ``u = [nu_dot (6) | qdd (n) | end-effector wrench (6) | current (3) | fluid acceleration (3)]``."""
-    n = (y.shape[0] - 10) // 2
-    R = _rotation(plant, y[0:4])
-    rnea(plant.body, plant.work, R, y[4:10], y[10:10 + n], y[10 + n:10 + 2 * n], u[0:6], u[6:6 + n],
+def plant_inverse(plant, x, u, out):
+    """``out = [f_0 (6) | tau (n)]`` by :func:`inverse_into` for a state vector ``x`` (as :func:`plant_forward`)
+    and ``u = [nu_dot (6) | qdd (n) | end-effector wrench (6) | current (3) | fluid acceleration (3)]``."""
+    n = out.shape[0] - 6
+    R = _rotation(plant, x[3:7])
+    rnea(plant.body, plant.work, R, x[7:13], x[13:13 + n], x[13 + n:13 + 2 * n], u[0:6], u[6:6 + n],
          u[6 + n:12 + n], u[12 + n:15 + n], u[15 + n:18 + n], out[0:6], out[6:6 + n])
 
 
