@@ -319,3 +319,25 @@ def test_without_cryptography_the_credentials_come_from_openssl(monkeypatch, tmp
     with pytest.raises(UvmsInputError, match="needs the Python package 'cryptography' or the 'openssl' command"):
         with local_cluster(1):
             pass  # pragma: no cover
+
+
+def test_ctrl_c_while_the_client_connects_leaves_nothing_to_wait_for_at_exit(monkeypatch):
+    """A Ctrl-C (SIGINT to this process) while the client connects, inside its ``__init__``: the half-made
+    client is closed with the cluster, so collecting it at exit does not wait for the stopped event loop (it
+    waited 60 s; found by the clean-clone CI as a hang after the one-line message)."""
+    import asyncio
+
+    from distributed import Client
+
+    real, made = Client._start, []
+
+    async def interrupted(self, *args, **kwargs):
+        made.append(self)
+        os.kill(os.getpid(), signal.SIGINT)
+        await asyncio.sleep(0.5)  # still connecting when the main thread takes the KeyboardInterrupt
+        return await real(self, *args, **kwargs)
+
+    monkeypatch.setattr(Client, "_start", interrupted)
+    with pytest.raises(KeyboardInterrupt), local_cluster(1):
+        time.sleep(30)  # the signal arrives before or here
+    assert len(made) == 1 and made[0].status == "closed"  # its __del__ (Client.close) returns at once

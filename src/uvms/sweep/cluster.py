@@ -165,7 +165,10 @@ def _local_cluster(layout: list[int], preload: list[str] | None) -> Iterator[Any
                                worker=worker,
                                loop=runner.loop, security=security, silence_logs=logging.CRITICAL,
                                name="uvms-sweep")
-            client = Client(cluster, security=security, set_as_default=False)
+            # made in two steps so that a Ctrl-C inside its __init__ still leaves it here to close (a half-started
+            # client collected at exit waited 60 s for the stopped loop)
+            client = Client.__new__(Client)
+            client.__init__(cluster, security=security, set_as_default=False)
         yield client
     finally:
         with _sigint_blocked():  # a second Ctrl-C must not cut the shutdown short (it is raised afterwards)
@@ -173,6 +176,7 @@ def _local_cluster(layout: list[int], preload: list[str] | None) -> Iterator[Any
                 runner.loop.asyncio_loop.set_exception_handler(lambda loop, context: None)
             if client is not None:
                 close_quietly(client.close, timeout=10)
+                client.status = "closed"  # its loop stops below: when collected it must not wait for it again
             for each in started:
                 close_quietly(each.close, timeout=20)
                 # a start cut short leaves the cluster "closing" for ever: forget it, or distributed's exit
