@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from uvms.dynamics.jit import block, kernel
-from uvms.kinematics import quaternion_to_rotation
+from uvms.kinematics import normalised_rotation
 from uvms.rotations import euler_zyx
 
 ERROR, ERROR_RATE, VELOCITY, ERROR3, RATE3, OMEGA, EULER = range(7)
@@ -54,9 +54,10 @@ POSITION, ANGULAR = 3, 4
 
 @kernel
 def pose_kinematics_into(quaternion, position, nu, desired, R, kin):
-    """Body-to-world ``R`` (3x3) of ``quaternion`` (normalised here) and the pose kinematics ``kin``
-    (N_KIN_ROWS, 6) of a pose and body velocity ``nu = [omega; v]`` for the world set point ``desired`` =
-    ``(x, y, z, roll, pitch, yaw)``; columns are the axis slots surge, sway, heave, roll, pitch, yaw::
+    """Body-to-world ``R`` (3x3) of ``quaternion`` (normalised: :func:`uvms.kinematics.normalised_rotation`) and
+    the pose kinematics ``kin`` (N_KIN_ROWS, 6) of a pose and body velocity ``nu = [omega; v]`` for the world
+    set point ``desired`` = ``(x, y, z, roll, pitch, yaw)``; columns are the axis slots surge, sway, heave, roll,
+    pitch, yaw::
 
         ERROR       e = R^T (p - p_d) (3),  wrap(phi - phi_d), theta - theta_d, wrap(psi - psi_d)
         ERROR_RATE  e_dot = v - omega x e (from R_dot = R [omega x]),  phi_dot, theta_dot, psi_dot (Eq. 1's T2)
@@ -64,9 +65,7 @@ def pose_kinematics_into(quaternion, position, nu, desired, R, kin):
 
     ``phi_dot = p + sin(theta) psi_dot``, ``theta_dot = cos(phi) q - sin(phi) r``,
     ``psi_dot = (sin(phi) q + cos(phi) r) / cos(theta)``."""
-    qw, qx, qy, qz = quaternion[0], quaternion[1], quaternion[2], quaternion[3]
-    norm = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-    quaternion_to_rotation(qw / norm, qx / norm, qy / norm, qz / norm, R)
+    normalised_rotation(quaternion, R)
     d0 = position[0] - desired[0]
     d1 = position[1] - desired[1]
     d2 = position[2] - desired[2]
