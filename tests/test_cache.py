@@ -76,3 +76,22 @@ def test_the_cli_says_it_before_a_run_but_not_for_bad_input(tmp_path, monkeypatc
     assert "first run only" not in capsys.readouterr().err
     assert cli.main(["run", "paper_case2_released", "-o", str(tmp_path / "out")]) == 0   # numba keeps its cache
     assert capsys.readouterr().err.startswith("uvms: compiling the numerical kernels")
+
+
+def test_a_local_sweep_says_it_before_starting_its_workers(tmp_path, monkeypatch, capsys):
+    """The local workers compile into this machine's cache, so ``uvms sweep`` says the notice (a cold cache is
+    simulated: the workers' real cache is warm); with an external scheduler the workers' caches are elsewhere
+    and nothing is said."""
+    from tests.sweep.helpers import write_sweep
+    from uvms import cli
+    from uvms.sweep import execute
+
+    monkeypatch.setattr(_cache, "compiled_before", lambda kernel="": False)
+    path = write_sweep(tmp_path)
+    assert cli.main(["sweep", str(path), "-o", str(tmp_path / "out"), "--workers", "1"]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("uvms: compiling the numerical kernels") and err.count("first run only") == 1, err
+    monkeypatch.setattr(execute, "CONNECT_TIMEOUT", 1.0)
+    assert cli.main(["sweep", str(path), "-o", str(tmp_path / "other"), "--scheduler", "tcp://127.0.0.1:9"]) == 2
+    err = capsys.readouterr().err
+    assert "first run only" not in err and "cannot connect to the Dask scheduler" in err, err

@@ -70,8 +70,9 @@ FIRST_COMPILE_NOTICE = ("uvms: compiling the numerical kernels for this machine 
                         "later runs start in about a second)")
 """What the CLI says once when the compiled kernels are not cached yet (instead of a progress bar at 0)."""
 
-FIRST_COMPILE_MINUTES = "1-2 minutes"
-"""The cold-cache compile time measured on a 2-core machine (README, benchmarks)."""
+FIRST_COMPILE_MINUTES = "2-3 minutes"
+"""The cold-cache compile time measured on a 2-core machine: ``uvms run paper_case3_controlled`` 165 s,
+``uvms run bluerov2_heavy_alpha5_hold6`` 149 s, a first ``uvms sweep --workers 2`` 168 s (warm: under 3 s)."""
 
 
 def compiled_before(kernel: str = "compiled_loop.advance_loop") -> bool:

@@ -271,6 +271,7 @@ def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.Path
         OSError: a file of the output directory could not be written (its name in ``filename``).
         KeyboardInterrupt: passed on after the current row is written and the workers are shut down.
     """
+    from uvms._cache import announce_compile
     from uvms.sweep.cluster import check_scheduler
 
     sweep = sweep_or_path if isinstance(sweep_or_path, Sweep) else load_sweep(sweep_or_path)
@@ -292,6 +293,8 @@ def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.Path
             progress(done, total)
         lost: dict[str, str] = {}
         if todo:
+            if scheduler is None:  # the local workers compile into this machine's cache: the CLI says so once
+                announce_compile()
             try:
                 with ExitStack() as connection:
                     try:
