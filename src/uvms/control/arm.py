@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
-from uvms.dynamics.jit import kernel
 
+from uvms.dynamics.jit import kernel
 from uvms.dynamics.plant import ModelData, inverse_into, model_data
 from uvms.errors import UvmsInputError
 from uvms.kinematics import normalised_rotation

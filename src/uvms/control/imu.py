@@ -17,9 +17,9 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from uvms.dynamics.jit import kernel
 
 from uvms.control.base import Measurement
+from uvms.dynamics.jit import kernel
 
 
 @dataclass(frozen=True)

@@ -25,9 +25,9 @@ left in ``ws.a`` (read by :mod:`uvms.dynamics.inspect`). Transforms are applied 
 
 from __future__ import annotations
 
-from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, transform_force_add, transform_motion
 from numba import njit
 
+from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, transform_force_add, transform_motion
 from uvms.dynamics.jit import OPTIONS, kernel
 from uvms.dynamics.kernel_model import JOINT_Z, Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass

@@ -5,8 +5,10 @@
   caller owns. With numba's reference counting on, every array taken out of a named tuple or sliced out of a
   workspace (``ws.IA[i]``) costs an atomic increment and decrement, and the ~40 arrays of the model and
   workspace are counted again on every call: measured on the paper model, the articulated-body algorithm took
-  2.5 us with it and 1.5 us without (``benchmarks/bench_dynamics.py --only compiled``). A kernel that needs to
-  allocate (``crba_alloc``, ``end_effector_path``) uses plain ``njit``.
+  2.5 us with it and 1.5 us without (``benchmarks/bench_dynamics.py --only compiled``). A function called only
+  from Python that allocates (``crba_alloc``, ``end_effector_path``) uses plain ``njit``; one that allocates
+  and is called from a kernel uses ``allocating``, which turns reference counting on explicitly (numba gives a
+  function its caller's setting unless it sets one).
 - ``error_model="numpy"``: a division by zero gives ``inf``/``nan`` (caught by the callers' finiteness checks)
   instead of a branch to a ``ZeroDivisionError`` after every division; results of finite arithmetic are the
   same.
@@ -29,3 +31,10 @@ kernel = njit(**OPTIONS)
 
 block = njit(inline="always", **OPTIONS)
 """Decorator of a small compiled helper inlined into every kernel that calls it."""
+
+ALLOCATING = {"cache": True, "nogil": True, "_nrt": True, "error_model": "python"}
+"""Compile options of a function that allocates and is reached from kernels: the bounded least squares of the
+thrust allocation (``np.linalg.lstsq``, :mod:`uvms.thrusters.command`)."""
+
+allocating = njit(**ALLOCATING)
+"""Decorator of a compiled function that allocates, called from kernels (see the module docstring)."""

@@ -157,8 +157,8 @@ def state_derivative(plant, held, t, x, xdot):
     fixed_base = plant.fixed_base
     for k in range(6):
         nu[k] = 0.0 if fixed_base else x[7 + k]
-    aba_inlined(body, plant.work, R, nu, x[13:13 + n], x[13 + n:13 + 2 * n], held.joint_torques, f_body, held.ee_wrench,
-        vc, af, fixed_base, xdot[7:13], xdot[13 + n:13 + 2 * n])
+    aba_inlined(body, plant.work, R, nu, x[13:13 + n], x[13 + n:13 + 2 * n], held.joint_torques, f_body,
+                held.ee_wrench, vc, af, fixed_base, xdot[7:13], xdot[13 + n:13 + 2 * n])
     w0, w1, w2 = nu[0], nu[1], nu[2]
     for r in range(3):
         xdot[r] = R[r, 0] * nu[3] + R[r, 1] * nu[4] + R[r, 2] * nu[5]

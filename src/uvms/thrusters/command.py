@@ -31,7 +31,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from uvms.dynamics.jit import kernel
+from uvms.dynamics.jit import allocating, kernel
 from uvms.thrusters.healey import healey_voltage_for_thrust
 from uvms.thrusters.table import table_command
 
@@ -97,13 +97,7 @@ def thrust_command_names(thrusters) -> tuple[str, ...]:
 
 # --------------------------------------------------------------------------------- bounded least squares
 
-ALLOCATING = {"cache": True, "nogil": True, "_nrt": True, "error_model": "python"}
-"""Compile options of the bounded least squares, which allocates (``np.linalg.lstsq``): reference counting on
-explicitly, since numba's functions otherwise take it from their caller and :func:`allocate_command` and the
-compiled loop are kernels without it (:mod:`uvms.dynamics.jit`)."""
-
-
-@njit(**ALLOCATING)
+@allocating
 def _face_solve(A, w, x, side, eps):
     """The free thrusts (``side == 0``) minimising ``|A x - w|^2 + eps |x_F|^2`` with the others held
     (``eps = 0``: the minimum-norm least-squares solution); returns them (k,) in free order."""
@@ -156,7 +150,7 @@ def _ratio_test(z, x, side, lower, upper):
     return alpha, block, block_side
 
 
-@njit(**ALLOCATING)
+@allocating
 def bounded_least_squares(A, w, lower, upper, eps, redundant, x, side):
     """``x`` (m,): within ``[lower, upper]``, minimising ``|A x - w|`` and then ``|x|`` (module docstring).
     ``x`` holds a starting guess on entry (clipped here); ``side`` (m,) is scratch (the final active set);
@@ -221,7 +215,7 @@ def bounded_least_squares(A, w, lower, upper, eps, redundant, x, side):
         minimum_norm_refinement(A, lower, upper, x, side)
 
 
-@njit(**ALLOCATING)
+@allocating
 def minimum_norm_refinement(A, lower, upper, x, side):
     """Among the thrusts producing the same wrench ``a = A x`` within the limits, the one of least ``|x|``
     (``x`` in, out): a primal active-set method on ``min 1/2 |x|^2`` subject to ``A x = a`` and the bounds.
