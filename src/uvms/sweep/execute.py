@@ -289,12 +289,12 @@ def run(sweep_or_path: Sweep | str | os.PathLike[str], *, out_dir: str | os.Path
         todo = [run for run in sweep.runs if run.run_id not in rows]
         total = len(sweep.runs)
         done = len(planned & set(rows))
+        if todo and scheduler is None:  # the local workers compile into this machine's cache: the CLI says so
+            announce_compile()          # once, before a progress bar starts
         if progress is not None:
             progress(done, total)
         lost: dict[str, str] = {}
         if todo:
-            if scheduler is None:  # the local workers compile into this machine's cache: the CLI says so once
-                announce_compile()
             try:
                 with ExitStack() as connection:
                     try:
