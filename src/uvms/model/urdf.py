@@ -87,7 +87,7 @@ def _parse(text: str, source: str):
     import yourdfpy
 
     try:
-        with _quiet_logger("yourdfpy.urdf"):
+        with _quiet_logger("yourdfpy.urdf"), np.errstate(all="ignore"):   # NaN origins are refused later
             return yourdfpy.URDF._parse_robot(xml_element=root)
     except Exception as exc:  # yourdfpy's own errors on content it cannot read (bad numbers, ...)
         raise UvmsInputError(f"invalid URDF: {' '.join(str(exc).split()) or type(exc).__name__}", source) from None

@@ -41,10 +41,15 @@ MAX_FILE_BYTES = 2 * 1024 * 1024
 """Largest xacro (or included, or ``load_yaml``) file read [bytes] (as for YAML files)."""
 MAX_FILES = 100
 """Most files (includes and YAML files) one expansion reads."""
-MAX_ELEMENTS = 100_000
-"""Most XML elements one expansion processes (macro bodies and blocks count each time they are expanded)."""
+MAX_ELEMENTS = 20_000
+"""Most XML elements one expansion produces: bounded before expanding (every macro call counted at the size of
+the macro's body, both branches of a conditional counted) and counted while expanding (blocks and recursive
+macros count each time they are expanded)."""
 MAX_MACRO_DEPTH = 50
 """Deepest nesting of macro calls."""
+MAX_WORK = 40_000
+"""Most element-levels one expansion processes: each element counts ``1 +`` the depth of macro calls it is
+expanded in (xacro's cost per element grows with that depth: a property is looked up through every level)."""
 MAX_OUTPUT_CHARS = 32 * 1024 * 1024
 """Most characters of text the expressions and substitutions of one expansion produce, in total."""
 MAX_EXPRESSION_CHARS = 10_000
@@ -356,10 +361,12 @@ class _Context:
     options: XacroOptions
     files: int = 0
     elements: int = 0
+    work: int = 0
     output_chars: int = 0
     macro_depth: int = 0
     warnings: list[str] = field(default_factory=list)
     refusal: UvmsInputError | None = None
+    macro_sizes: dict[str, int] = field(default_factory=dict)
 
 
 _current: _Context | None = None
@@ -427,8 +434,52 @@ def _parse_hook(inp: Any, filename: str | None = None) -> Any:
         xacro.filestack[-1] = str(path)
         inp = _read(path, "include")
     if isinstance(inp, str):
-        return _dom_or_refuse(inp, filename)
+        doc = _dom_or_refuse(inp, filename)
+        _check_static_size(doc, filename)
+        return doc
     raise _refuse("unexpected input to the xacro parser")
+
+
+def _check_static_size(doc: Any, filename: str | None) -> None:
+    """Refuse at once a document whose macros would expand to more than :data:`MAX_ELEMENTS` elements: each
+    macro's size is its body's element count with every macro call in it counted at the callee's size (macros
+    of files read before included; both branches of conditionals counted; a recursive call counted once, the
+    running count catches the rest). Sizes saturate just above the limit, so ``2**40`` costs nothing."""
+    sizes = _current.macro_sizes
+    cap = MAX_ELEMENTS + 1
+    bodies: dict[str, Any] = {}
+    for node in doc.getElementsByTagName("xacro:macro"):
+        name = node.getAttribute("name")
+        bodies[name[6:] if name.startswith("xacro:") else name] = node
+    busy: set[str] = set()
+
+    def macro_size(name: str) -> int:
+        if name in busy or (name not in bodies and name not in sizes):
+            return 1                                   # recursive, or defined later: the running count
+        if name not in sizes or name in bodies:
+            busy.add(name)
+            sizes[name] = min(cap, count(bodies[name]))
+            busy.discard(name)
+            bodies.pop(name)
+        return sizes[name]
+
+    def count(node: Any) -> int:
+        total = 0
+        for child in node.childNodes:
+            if child.nodeType != child.ELEMENT_NODE or child.tagName == "xacro:macro":
+                continue
+            tag = child.tagName
+            own = macro_size(tag[6:].rsplit(".", 1)[-1]) if tag.startswith("xacro:") and tag[6:] not in (
+                "if", "unless", "include", "property", "arg", "insert_block", "element", "attribute") else 1
+            total = min(cap, total + own + count(child))
+        return total
+
+    for name in list(bodies):
+        if name in bodies:
+            macro_size(name)
+    if count(doc.documentElement) > MAX_ELEMENTS:
+        where = f"include {filename}: " if filename else ""
+        raise _refuse(f"{where}its macros expand to more than {MAX_ELEMENTS:,} XML elements (limit)")
 
 
 def _dom_or_refuse(text: str, filename: str | None) -> Any:
@@ -542,8 +593,12 @@ def _budget_hooks(xacro: Any) -> dict[str, Any]:
     def counted_eval_all(node, macros, symbols):
         ctx = _current
         ctx.elements += 1
+        ctx.work += 1 + ctx.macro_depth
         if ctx.elements > MAX_ELEMENTS:
             raise _refuse(f"expands to more than {MAX_ELEMENTS:,} XML elements (limit)")
+        if ctx.work > MAX_WORK:
+            raise _refuse(f"expands to more than {MAX_WORK:,} element-levels (elements times the depth of the "
+                          "macro calls they are expanded in; limit)")
         return eval_all(node, macros, symbols)
 
     def counted_macro_call(node, macros, symbols):
@@ -562,6 +617,8 @@ def _budget_hooks(xacro: Any) -> dict[str, Any]:
             raise _refuse(f"a text with ${{...}} or $(...) longer than {MAX_TEXT_CHARS:,} characters (limit)")
         value = eval_text(text, symbols)
         if isinstance(value, str):
+            if len(value) > MAX_STRING_CHARS:
+                raise _refuse(f"a text longer than {MAX_STRING_CHARS:,} characters (limit)")
             ctx.output_chars += len(value)
             if ctx.output_chars > MAX_OUTPUT_CHARS:
                 raise _refuse(f"expands to more than {MAX_OUTPUT_CHARS:,} characters of text (limit)")
@@ -607,6 +664,7 @@ def expand(path: str | os.PathLike[str], options: XacroOptions | None = None) ->
             xacro.init_stacks(str(top))
             text = _read(top, "xacro")
             doc = _dom_or_refuse(text, None)
+            _check_static_size(doc, None)
             xacro.process_doc(doc, mappings={str(k): str(v) for k, v in options.args.items()})
             result = doc.toxml()
             if len(result) > MAX_OUTPUT_CHARS:
