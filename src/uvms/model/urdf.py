@@ -1,7 +1,8 @@
 """URDF (and xacro) robot descriptions -> :class:`~uvms.model.model.Model` (``docs/models.md``, "URDF").
 
-The URDF is parsed by ``yourdfpy`` (xacro expanded by ``xacrodoc``, without ROS); this module only turns the
-parsed links and joints into a kinematic tree and checks it:
+The URDF is parsed by ``defusedxml`` (no DTD, no entities; at most :data:`MAX_URDF_BYTES` and :data:`MAX_LINKS`
+links) and read by ``yourdfpy``; a xacro is expanded as data by :mod:`uvms.model.xacro` (without ROS). This
+module turns the parsed links and joints into a kinematic tree and checks it:
 
 * the root link (the one link that is no joint's child) is the vehicle: its frame is the vehicle frame and
   ``nu`` is that frame's body velocity ``[angular; linear]`` (it need not be the centre of mass);
@@ -11,8 +12,10 @@ parsed links and joints into a kinematic tree and checks it:
   child stays a named frame (as Pinocchio's URDF parser does);
 * bodies and joints are in depth-first order from the root, children in file order: that is the order of ``q``;
 * ``<dynamics damping friction>`` become joint damping and Coulomb friction, ``<limit>`` the joint limits;
-* mimic joints, floating and planar joints, loops, several roots and unphysical inertias are refused with a
-  one-line :class:`~uvms.errors.UvmsInputError` naming the file and the link or joint.
+* mimic joints, floating and planar joints, loops, several roots, non-finite origins, damping, friction and
+  limits, ``lower > upper`` and unphysical inertias are refused with a one-line
+  :class:`~uvms.errors.UvmsInputError` naming the file and the link or joint (an inertia breaking only the
+  triangle inequality is balanced instead on request, :func:`balanced_inertia`).
 
 Hydrodynamics cannot be written in URDF: a model YAML with ``urdf:`` adds them per link name
 (:class:`uvms.model.schema.UrdfModelSpec`); a bare URDF gives a model with every hydrodynamic effect zero.
