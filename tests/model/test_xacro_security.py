@@ -265,3 +265,50 @@ def test_xacro_state_is_restored_after_an_expansion(tmp_path):
         expand(path)
     expand(_robot(tmp_path, "", name="ok.xacro"), XacroOptions())
     assert (xacro.safe_eval, xacro.eval_extension, xacro.parse, xacro.eval_all, xacro._global_symbols) == before
+
+
+def test_a_missing_include_is_an_error_unless_optional(tmp_path):
+    path = _robot(tmp_path, '<xacro:include filename="nothing.xacro"/>')
+    with pytest.raises(UvmsInputError, match="no such file"):
+        uvms.load_model(path)
+    path = _robot(tmp_path, '<xacro:include filename="nothing.xacro" optional="true"/>', name="opt.xacro")
+    assert uvms.load_model(path).body_names == ("base",)
+
+
+def test_a_file_that_is_not_a_regular_file_is_not_read(tmp_path):
+    os.mkfifo(tmp_path / "pipe.xacro")          # reading a FIFO would wait forever
+    path = _robot(tmp_path, '<xacro:include filename="pipe.xacro"/>')
+    start = time.perf_counter()
+    with pytest.raises(UvmsInputError, match="not a regular file"):
+        uvms.load_model(path)
+    assert time.perf_counter() - start < 1.0
+
+
+def test_xacro_warnings_become_at_most_one_line(tmp_path, capfd):
+    path = _robot(tmp_path, '<xacro:property name="a" value="1" bogus="x"/>'
+                            '<xacro:property name="b" value="2" other="y"/>')
+    with pytest.warns(UserWarning) as caught:
+        uvms.load_model(path)
+    lines = [str(w.message) for w in caught]
+    assert len(lines) == 1 and "unknown attribute" in lines[0] and "and 1 more" in lines[0]
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""
+
+
+def test_expansions_in_several_threads_do_not_mix(tmp_path):
+    from concurrent.futures import ThreadPoolExecutor
+
+    good = _ordinary(tmp_path / "model")
+    bad = _robot(tmp_path / "bad", '<xacro:property name="p" value="${__import__(\'os\')}"/>', mass="${p}")
+    options = XacroOptions(package_paths={"tool_pkg": tmp_path / "pkg"})
+
+    def one(k: int) -> str:
+        try:
+            return expand(good if k % 2 == 0 else bad, options)
+        except UvmsInputError as exc:
+            return str(exc)
+
+    with ThreadPoolExecutor(4) as pool:
+        results = list(pool.map(one, range(16)))
+    assert all("<robot" in r for r in results[0::2])
+    assert all("'__import__' is not allowed" in r for r in results[1::2])

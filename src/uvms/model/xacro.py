@@ -401,10 +401,13 @@ def _allowed_file(name: str, what: str, count: bool = True) -> Path:
     ctx.files += count
     if ctx.files > MAX_FILES:
         raise _refuse(f"more than {MAX_FILES} files included or loaded (limit)")
-    try:
-        size = path.stat().st_size
-    except OSError:
-        raise _refuse(f"{what} {show(name)}: no such file") from None
+    if not path.exists():
+        if what == "include":                  # xacro's own error, which an optional="true" include skips
+            raise FileNotFoundError(name)
+        raise _refuse(f"{what} {show(name)}: no such file")
+    if not path.is_file():
+        raise _refuse(f"{what} {show(name)}: not a regular file")
+    size = path.stat().st_size
     if size > MAX_FILE_BYTES:
         raise _refuse(f"{what} {show(name)}: file of {size:,} bytes, over the limit of {MAX_FILE_BYTES:,}")
     return path
@@ -430,7 +433,10 @@ def _parse_hook(inp: Any, filename: str | None = None) -> Any:
     import xacro
 
     if inp is None:
-        path = _allowed_file(filename, "include")
+        try:
+            path = _allowed_file(filename, "include")
+        except FileNotFoundError:
+            raise _missing_include(filename) from None
         xacro.filestack[-1] = str(path)
         inp = _read(path, "include")
     if isinstance(inp, str):
@@ -502,8 +508,19 @@ def _include_files_hook(filename_spec: str, symbols: Any):
     import xacro
 
     name = str(xacro.eval_text(filename_spec, symbols))
-    _allowed_file(name, "include", count=False)         # refuse before xacro does anything with it
+    try:
+        _allowed_file(name, "include", count=False)     # refuse before xacro does anything with it
+    except FileNotFoundError:
+        pass                                            # xacro's error when it is parsed (or skipped if optional)
     yield name if os.path.isabs(name) else os.path.join(os.path.dirname(xacro.filestack[-1] or "."), name)
+
+
+def _missing_include(filename: str) -> Any:
+    """xacro's error for an include that does not exist (an ``optional="true"`` include is skipped)."""
+    import xacro
+
+    xacro.filestack.pop()
+    return xacro.XacroException(f"no such file: {filename}", exc=FileNotFoundError(filename))
 
 
 def _load_yaml(filename: Any) -> Any:
