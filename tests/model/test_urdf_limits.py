@@ -222,3 +222,20 @@ def test_parsing_a_urdf_prints_nothing(tmp_path, capfd):
     uvms.load_model(path)
     out, err = capfd.readouterr()
     assert out == "" and err == ""
+
+
+@pytest.mark.parametrize("text, match", [
+    ('<robot><link name="base"/></robot>', "expected a name attribute on <robot>"),
+    ('<robot name="r"><link/></robot>', "expected a name attribute on <link>"),
+    ('<robot name="r"><link name="a"/><joint name="j" type="fixed"><parent link="a"/></joint></robot>',
+     "joint 'j': expected a <child link=...> element"),
+    ('<robot name="r"><link name="a"/><joint name="j"><parent link="a"/><child link="a"/></joint></robot>',
+     "joint 'j': expected a type attribute"),
+])
+def test_missing_required_parts_are_named(tmp_path, text, match, capfd):
+    path = tmp_path / "r.urdf"
+    path.write_text(text)
+    with pytest.raises(UvmsInputError, match=match):
+        uvms.load_model(path)
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""

@@ -87,6 +87,7 @@ def _parse(text: str, source: str):
     root = _xml_root(text, source)
     if root.tag != "robot":
         raise UvmsInputError(f"expected a <robot> element at the top level, found <{root.tag}>", source)
+    _check_required(root, source)
     import yourdfpy
 
     try:
@@ -122,6 +123,25 @@ def _xml_root(text: str, source: str):
         raise UvmsInputError("a DTD or entity declaration (<!DOCTYPE ...>, <!ENTITY ...>) is not allowed in a "
                              "robot description", source) from None
     return events.root
+
+
+def _check_required(root, source: str) -> None:
+    """The attributes and elements URDF requires of the robot, its links and joints, by name (yourdfpy would
+    stop on them with a Python error)."""
+    if not root.get("name"):
+        raise UvmsInputError("expected a name attribute on <robot>", source)
+    for k, element in enumerate(root):
+        name = element.get("name")
+        if element.tag in ("link", "joint") and not name:
+            raise UvmsInputError(f"expected a name attribute on <{element.tag}> number {k + 1}", source)
+        if element.tag != "joint":
+            continue
+        if not element.get("type"):
+            raise UvmsInputError("expected a type attribute", source, f"joint {name!r}")
+        for role in ("parent", "child"):
+            item = element.find(role)
+            if item is None or not item.get("link"):
+                raise UvmsInputError(f"expected a <{role} link=...> element", source, f"joint {name!r}")
 
 
 @contextmanager
