@@ -5,6 +5,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from uvms.checks import check_joint_axis_inertia
@@ -228,5 +230,15 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
         joints={name: {k: v for k, v in j.model_dump().items() if v is not None} for name, j in spec.joints.items()},
         end_effector=spec.end_effector, fixed_joints=spec.fixed_joints,
         thrusters=_thrusters(spec, source), source=source,
+        xacro=xacro_options(spec, source), balance_inertia=spec.balance_inertia,
     )
     return model_from_urdf(urdf_path, extras)
+
+
+def xacro_options(spec: UrdfModelSpec, source: str | None):
+    """What the additions file lets its xacro read (``package_paths`` relative to the file, docs/models.md)."""
+    from uvms.model.xacro import XacroOptions
+
+    base = Path(source).parent if source else Path(".")
+    return XacroOptions(package_paths={name: base / path for name, path in spec.package_paths.items()},
+                        allow_environment=spec.allow_environment, args=dict(spec.xacro_args))

@@ -63,22 +63,36 @@ def load_model_spec(name_or_path: str | os.PathLike[str]) -> tuple[ModelSpec | U
         raise validation_input_error(exc, source, schema=schema) from None
 
 
-def load_model(name_or_path: str | os.PathLike[str]) -> Model:
+def load_model(name_or_path: str | os.PathLike[str], *, balance_inertia: bool | None = None,
+               package_paths: dict[str, str | os.PathLike[str]] | None = None,
+               allow_environment: bool | None = None, xacro_args: dict[str, str] | None = None) -> Model:
     """Load a model: a bundled name (``"paper"``, see :func:`bundled_models`), a model YAML file, or a robot
     description (``.urdf``, ``.xacro``) whose root link is the vehicle (``docs/models.md``).
+
+    The keywords (for robot descriptions; each replaces the model YAML's field of that name when given):
+    ``balance_inertia`` accepts link inertias breaking the triangle inequality with their principal moments set
+    to their mean (MuJoCo's ``balanceinertia``; one warning line names the links); ``package_paths``
+    (``{package: folder}``), ``allow_environment`` and ``xacro_args`` say what a xacro may read beyond its own
+    folder (``docs/models.md``, "What a xacro may do").
 
     Raises:
         UvmsInputError: missing file, YAML or XML syntax error or invalid content (one-line message).
     """
     from uvms.model.urdf import is_robot_description, model_from_urdf
+    from uvms.model.xacro import XacroOptions
 
+    options = {key: value for key, value in (("balance_inertia", balance_inertia), ("package_paths", package_paths),
+               ("allow_environment", allow_environment), ("xacro_args", xacro_args)) if value is not None}
     if is_robot_description(name_or_path) and Path(name_or_path).exists():
-        return model_from_urdf(name_or_path)
-    key = _file_key(resolve_model_path(name_or_path))
+        xacro = XacroOptions(package_paths=dict(options.get("package_paths", {})),
+                             allow_environment=bool(options.get("allow_environment", False)),
+                             args=dict(options.get("xacro_args", {})))
+        return model_from_urdf(name_or_path, xacro=xacro, balance_inertia=bool(balance_inertia))
+    key = (_file_key(resolve_model_path(name_or_path)), repr(sorted(options.items())))
     hit = _LOADED.get(key)
     if hit is not None and all(_file_key(path) == stat for path, stat in hit[1]):
         return hit[0]
-    model, robot = _load_model_file(name_or_path)
+    model, robot = _load_model_file(name_or_path, options)
     if len(_LOADED) >= _MAX_LOADED:
         _LOADED.pop(next(iter(_LOADED)))
     _LOADED[key] = (model, tuple((path, _file_key(path)) for path in robot))
@@ -86,10 +100,22 @@ def load_model(name_or_path: str | os.PathLike[str]) -> Model:
 
 
 _LOADED: dict[tuple, tuple] = {}
-"""Models already built from a file: ``(path, mtime, size) -> (model, ((robot description, its key), ...))``.
+"""Models already built from a file: ``((path, mtime, size), keywords) -> (model, ((robot description, its key),
+...))``.
 A model is immutable, so a sweep's thousand runs of one model file build it once; an edited file (or an edited
 URDF it names) is read again."""
 _MAX_LOADED = 32
+
+
+def _absolute_packages(options: dict) -> dict:
+    """:func:`load_model`'s keywords as spec fields (package folders made absolute: a YAML's own are relative
+    to the YAML file, the caller's to the working directory)."""
+    out = dict(options)
+    if "package_paths" in out:
+        out["package_paths"] = {str(k): str(Path(v).resolve()) for k, v in out["package_paths"].items()}
+    if "xacro_args" in out:
+        out["xacro_args"] = {str(k): str(v) for k, v in out["xacro_args"].items()}
+    return out
 
 
 def _file_key(path) -> tuple:
@@ -100,13 +126,16 @@ def _file_key(path) -> tuple:
     return (str(Path(path).resolve()), st.st_mtime_ns, st.st_size)
 
 
-def _load_model_file(name_or_path) -> tuple[Model, tuple]:
-    """The model of a YAML file (bundled name or path) and the robot description files it was built from."""
+def _load_model_file(name_or_path, options: dict | None = None) -> tuple[Model, tuple]:
+    """The model of a YAML file (bundled name or path) and the robot description files it was built from;
+    ``options`` (keywords of :func:`load_model`) replace the fields of a URDF model YAML."""
     from uvms.model.urdf import is_robot_description
 
     spec, source = load_model_spec(name_or_path)
     try:
         if isinstance(spec, UrdfModelSpec):
+            if options:
+                spec = spec.model_copy(update=_absolute_packages(options))
             urdf = Path(spec.urdf)
             if not urdf.is_absolute():
                 urdf = Path(source).parent / urdf

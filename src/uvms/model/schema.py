@@ -18,6 +18,7 @@ from pydantic import (
     AfterValidator,
     BeforeValidator,
     Discriminator,
+    Strict,
     Tag,
     ValidationInfo,
     field_validator,
@@ -658,3 +659,7 @@ class UrdfModelSpec(Spec):
     fixed_joints: tuple[Name, ...] = ()           # frozen at zero (e.g. mimic joints)
     end_effector: Name | None = None              # a link (frame) name; default: the deepest link
     thrusters: Thrusters = ()
+    balance_inertia: Annotated[bool, Strict()] = False   # MuJoCo's balanceinertia for impossible inertias
+    package_paths: dict[Name, Name] = {}          # xacro $(find pkg) folders, relative to this file
+    allow_environment: Annotated[bool, Strict()] = False  # xacro $(env VAR) / $(optenv VAR) may read
+    xacro_args: dict[Name, Annotated[str, Strict()]] = {}  # xacro <xacro:arg> values ($(arg name))

@@ -1,7 +1,8 @@
 """URDF (and xacro) robot descriptions -> :class:`~uvms.model.model.Model` (``docs/models.md``, "URDF").
 
-The URDF is parsed by ``yourdfpy`` (xacro expanded by ``xacrodoc``, without ROS); this module only turns the
-parsed links and joints into a kinematic tree and checks it:
+The URDF is parsed by ``defusedxml`` (no DTD, no entities; at most :data:`MAX_URDF_BYTES` and :data:`MAX_LINKS`
+links) and read by ``yourdfpy``; a xacro is expanded as data by :mod:`uvms.model.xacro` (without ROS). This
+module turns the parsed links and joints into a kinematic tree and checks it:
 
 * the root link (the one link that is no joint's child) is the vehicle: its frame is the vehicle frame and
   ``nu`` is that frame's body velocity ``[angular; linear]`` (it need not be the centre of mass);
@@ -11,8 +12,10 @@ parsed links and joints into a kinematic tree and checks it:
   child stays a named frame (as Pinocchio's URDF parser does);
 * bodies and joints are in depth-first order from the root, children in file order: that is the order of ``q``;
 * ``<dynamics damping friction>`` become joint damping and Coulomb friction, ``<limit>`` the joint limits;
-* mimic joints, floating and planar joints, loops, several roots and unphysical inertias are refused with a
-  one-line :class:`~uvms.errors.UvmsInputError` naming the file and the link or joint.
+* mimic joints, floating and planar joints, loops, several roots, non-finite origins, damping, friction and
+  limits, ``lower > upper`` and unphysical inertias are refused with a one-line
+  :class:`~uvms.errors.UvmsInputError` naming the file and the link or joint (an inertia breaking only the
+  triangle inequality is balanced instead on request, :func:`balanced_inertia`).
 
 Hydrodynamics cannot be written in URDF: a model YAML with ``urdf:`` adds them per link name
 (:class:`uvms.model.schema.UrdfModelSpec`); a bare URDF gives a model with every hydrodynamic effect zero.
@@ -21,9 +24,11 @@ Hydrodynamics cannot be written in URDF: a model YAML with ``urdf:`` adds them p
 from __future__ import annotations
 
 import io
+import logging
 import math
 import os
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -32,6 +37,7 @@ import numpy as np
 
 from uvms.errors import UvmsInputError
 from uvms.model.model import DEFAULT_FRICTION_SPEED, END_EFFECTOR, Frame, Model
+from uvms.model.xacro import XacroOptions
 from uvms.spatial import plucker, skew, spatial_inertia
 
 URDF_SUFFIXES = (".urdf", ".xacro")
@@ -40,6 +46,10 @@ URDF_SUFFIXES = (".urdf", ".xacro")
 MOVING = ("revolute", "continuous", "prismatic")
 RELATIVE_TOLERANCE = 1e-9
 """Relative tolerance of the inertia checks (as :data:`uvms.model.schema.RELATIVE_TOLERANCE`)."""
+MAX_URDF_BYTES = 16 * 1024 * 1024
+"""Largest ``.urdf`` file read [bytes] (checked before reading; a xacro file has its own limits)."""
+MAX_LINKS = 1_000
+"""Most ``<link>`` (and most ``<joint>``) elements of a robot description, counted while it is parsed."""
 
 
 def is_robot_description(path: str | os.PathLike[str]) -> bool:
@@ -47,8 +57,9 @@ def is_robot_description(path: str | os.PathLike[str]) -> bool:
     return str(path).lower().endswith(URDF_SUFFIXES)
 
 
-def read_urdf_text(path: str | os.PathLike[str]) -> str:
-    """The URDF text of a ``.urdf`` file, or of a ``.xacro`` file expanded by ``xacrodoc`` (no ROS needed)."""
+def read_urdf_text(path: str | os.PathLike[str], xacro: XacroOptions | None = None) -> str:
+    """The URDF text of a ``.urdf`` file (at most :data:`MAX_URDF_BYTES`), or of a ``.xacro`` file expanded as
+    data by :func:`uvms.model.xacro.expand` under ``xacro`` (what it may read beyond its folder)."""
     path = Path(path)
     source = str(path)
     if not path.exists():
@@ -57,13 +68,12 @@ def read_urdf_text(path: str | os.PathLike[str]) -> str:
         raise UvmsInputError("expected a URDF file, found a directory" if path.is_dir()
                              else "expected a URDF file, found something that is not a regular file", source)
     if path.suffix.lower() == ".xacro":
-        try:
-            from xacrodoc import XacroDoc
+        from uvms.model.xacro import expand
 
-            return XacroDoc.from_file(str(path)).to_urdf_string()
-        except Exception as exc:  # xacrodoc raises many kinds: each is a problem of the user's file
-            raise UvmsInputError(f"cannot expand xacro: {' '.join(str(exc).split()) or type(exc).__name__}",
-                                 source) from None
+        return expand(path, xacro)
+    size = path.stat().st_size
+    if size > MAX_URDF_BYTES:
+        raise UvmsInputError(f"URDF file of {size:,} bytes, over the limit of {MAX_URDF_BYTES:,}", source)
     try:
         return path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
@@ -71,40 +81,97 @@ def read_urdf_text(path: str | os.PathLike[str]) -> str:
 
 
 def _parse(text: str, source: str):
-    """``yourdfpy``'s robot of a URDF text; XML syntax errors (which yourdfpy would try to recover from) and
-    a document that is not a ``<robot>`` are refused first."""
-    from xml.etree import ElementTree
-
-    try:
-        root = ElementTree.fromstring(text.encode("utf-8"))
-    except ElementTree.ParseError as exc:
-        line, column = exc.position
-        message = str(exc).split(":")[0]
-        raise UvmsInputError(f"invalid XML: {message}", source, f"line {line}, column {column + 1}") from None
+    """``yourdfpy``'s robot of a URDF text, parsed by ``defusedxml`` (a DTD or entity is refused) and
+    refused beyond :data:`MAX_LINKS` links or joints while it is read; XML syntax errors (which yourdfpy would
+    try to recover from) and a document that is not a ``<robot>`` are refused first."""
+    root = _xml_root(text, source)
     if root.tag != "robot":
         raise UvmsInputError(f"expected a <robot> element at the top level, found <{root.tag}>", source)
+    _check_required(root, source)
     import yourdfpy
 
     try:
-        urdf = yourdfpy.URDF.load(io.BytesIO(text.encode("utf-8")), load_meshes=False, build_scene_graph=False,
-                                  build_collision_scene_graph=False, load_collision_meshes=False)
+        with _quiet_logger("yourdfpy.urdf"), np.errstate(all="ignore"):   # NaN origins are refused later
+            return yourdfpy.URDF._parse_robot(xml_element=root)
     except Exception as exc:  # yourdfpy's own errors on content it cannot read (bad numbers, ...)
         raise UvmsInputError(f"invalid URDF: {' '.join(str(exc).split()) or type(exc).__name__}", source) from None
-    return urdf.robot
 
 
-def _pose(origin: Any) -> tuple[np.ndarray, np.ndarray]:
-    """``(R, p)`` of a yourdfpy 4x4 origin (identity when absent)."""
+def _xml_root(text: str, source: str):
+    """The root element of a URDF text (``defusedxml``; counting links and joints as it goes)."""
+    from xml.etree.ElementTree import ParseError
+
+    from defusedxml import DefusedXmlException
+    from defusedxml.ElementTree import iterparse
+
+    counts = {"link": 0, "joint": 0}
+    depth = 0
+    events = iterparse(io.BytesIO(text.encode("utf-8")), events=("start", "end"), forbid_dtd=True)
+    try:
+        for event, element in events:
+            depth += 1 if event == "start" else -1
+            if event == "start" and depth == 2 and element.tag in counts:
+                counts[element.tag] += 1
+                if counts[element.tag] > MAX_LINKS:
+                    raise UvmsInputError(f"more than {MAX_LINKS:,} <{element.tag}> elements (the limit of a "
+                                         "robot description, docs/models.md)", source)
+    except ParseError as exc:
+        line, column = exc.position
+        message = str(exc).split(":")[0]
+        raise UvmsInputError(f"invalid XML: {message}", source, f"line {line}, column {column + 1}") from None
+    except DefusedXmlException:
+        raise UvmsInputError("a DTD or entity declaration (<!DOCTYPE ...>, <!ENTITY ...>) is not allowed in a "
+                             "robot description", source) from None
+    return events.root
+
+
+def _check_required(root, source: str) -> None:
+    """The attributes and elements URDF requires of the robot, its links and joints, by name (yourdfpy would
+    stop on them with a Python error)."""
+    if not root.get("name"):
+        raise UvmsInputError("expected a name attribute on <robot>", source)
+    for k, element in enumerate(root):
+        name = element.get("name")
+        if element.tag in ("link", "joint") and not name:
+            raise UvmsInputError(f"expected a name attribute on <{element.tag}> number {k + 1}", source)
+        if element.tag != "joint":
+            continue
+        if not element.get("type"):
+            raise UvmsInputError("expected a type attribute", source, f"joint {name!r}")
+        for role in ("parent", "child"):
+            item = element.find(role)
+            if item is None or not item.get("link"):
+                raise UvmsInputError(f"expected a <{role} link=...> element", source, f"joint {name!r}")
+
+
+@contextmanager
+def _quiet_logger(name: str):
+    """Keep a library's log records (yourdfpy's recovery notes) off the terminal while parsing."""
+    logger = logging.getLogger(name)
+    drop = logging.Filter("\0")            # matches no logger name: every record is dropped
+    logger.addFilter(drop)
+    try:
+        yield
+    finally:
+        logger.removeFilter(drop)
+
+
+def _pose(origin: Any, source: str | None = None, where: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """``(R, p)`` of a yourdfpy 4x4 origin (identity when absent); a non-finite ``xyz`` or ``rpy`` is refused."""
     if origin is None:
         return np.eye(3), np.zeros(3)
     T = np.asarray(origin, dtype=float)
+    if not np.all(np.isfinite(T)):
+        raise UvmsInputError("expected a finite <origin xyz rpy>, found NaN or infinity", source, where)
     return T[:3, :3].copy(), T[:3, 3].copy()
 
 
-def check_link_inertia(mass: float, inertia: np.ndarray, source: str | None, where: str) -> None:
+def check_link_inertia(mass: float, inertia: np.ndarray, source: str | None, where: str,
+                       balance: bool = False) -> np.ndarray:
     """A link's mass ``>= 0`` and rotational inertia about its CoM symmetric positive semi-definite with
     ``I1 + I2 >= I3`` (relative tolerance :data:`RELATIVE_TOLERANCE`); a massless link (a frame) may have
-    zero inertia."""
+    zero inertia. Returns the inertia: unchanged, or with ``balance`` and the triangle inequality broken,
+    :func:`balanced_inertia` of it."""
     if not math.isfinite(mass) or mass < 0.0:
         raise UvmsInputError(f"expected a mass >= 0, found {mass:g}", source, where)
     if not np.all(np.isfinite(inertia)):
@@ -117,12 +184,25 @@ def check_link_inertia(mass: float, inertia: np.ndarray, source: str | None, whe
     if moments[0] < -tol:
         raise UvmsInputError("expected a positive semi-definite inertia, found principal moments "
                              f"[{', '.join(f'{m:.6g}' for m in moments)}]", source, where)
-    if moments[0] + moments[1] < moments[2] - tol:
+    if moments[0] + moments[1] < moments[2] - tol and not balance:
         raise UvmsInputError("expected principal moments with I1 + I2 >= I3 (triangle inequality), found "
-                             f"[{', '.join(f'{m:.6g}' for m in moments)}]", source, where)
+                             f"[{', '.join(f'{m:.6g}' for m in moments)}]; balance_inertia: true accepts it "
+                             "with the moments set to their mean (docs/models.md)", source, where)
     if mass == 0.0 and moments[2] > 0.0:
         raise UvmsInputError("expected zero inertia for a link of zero mass, found principal moments "
                              f"[{', '.join(f'{m:.6g}' for m in moments)}]", source, where)
+    if moments[0] + moments[1] < moments[2] - tol:
+        return balanced_inertia(inertia)
+    return inertia
+
+
+def balanced_inertia(inertia: np.ndarray) -> np.ndarray:
+    """MuJoCo's ``balanceinertia`` (MJCF reference, ``compiler/balanceinertia``: "the compiler will silently
+    set all three diagonal elements to their average value whenever the above condition", ``A + B >= C``,
+    "is violated"), applied to the principal moments: the rotational inertia ``(I1 + I2 + I3) / 3 * 1`` [kg m^2],
+    the same in every axis, so the principal axes no longer matter. The trace (the polar moment about the CoM)
+    is kept."""
+    return np.trace(inertia) / 3.0 * np.eye(3)
 
 
 @dataclass
@@ -171,6 +251,10 @@ class VehicleExtras:
     thrusters: tuple = ()
     source: str | None = None
     """The additions file (named in errors about its link names)."""
+    xacro: XacroOptions | None = None
+    """What a xacro description may read beyond its folder (package folders, the environment, arguments)."""
+    balance_inertia: bool = False
+    """Accept inertias breaking the triangle inequality, balanced (:func:`balanced_inertia`), with a warning."""
 
 
 @dataclass
@@ -258,16 +342,32 @@ def _check_joint(joint, source: str, frozen: tuple[str, ...] = ()) -> np.ndarray
     return axis / norm
 
 
-def _link_inertia(link, source: str) -> np.ndarray:
-    """6x6 spatial inertia of a link about its own origin, in its own axes (zero without ``<inertial>``)."""
+def _link_inertia(link, source: str, balanced: list | None = None) -> np.ndarray:
+    """6x6 spatial inertia of a link about its own origin, in its own axes (zero without ``<inertial>``).
+    With ``balanced`` (a list), an inertia breaking the triangle inequality is balanced
+    (:func:`balanced_inertia`) and ``(link name, principal moments before, after)`` appended to it."""
     inertial = link.inertial
     if inertial is None:
         return np.zeros((6, 6))
     mass = float(inertial.mass) if inertial.mass is not None else 0.0
     I = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia, dtype=float)
-    check_link_inertia(mass, I, source, f"link {link.name!r}")
-    R, c = _pose(inertial.origin)
-    return spatial_inertia(mass, c, R @ I @ R.T)
+    where = f"link {link.name!r}"
+    checked = check_link_inertia(mass, I, source, where, balance=balanced is not None)
+    if checked is not I:
+        balanced.append((link.name, np.linalg.eigvalsh(0.5 * (I + I.T)), float(checked[0, 0])))
+    R, c = _pose(inertial.origin, source, f"{where}: inertial")
+    return spatial_inertia(mass, c, R @ checked @ R.T)
+
+
+def _warn_balanced(balanced: list, source: str) -> None:
+    """One warning line naming the links whose inertia ``balance_inertia`` changed, and by how much."""
+    if not balanced:
+        return
+    items = [f"{name!r} [{', '.join(f'{m:.6g}' for m in before)}] -> {after:.6g} each"
+             for name, before, after in balanced[:3]]
+    more = f" and {len(balanced) - 3} more" if len(balanced) > 3 else ""
+    warnings.warn(f"{source}: balance_inertia: principal moments [kg m^2] set to their mean (they broke "
+                  f"I1 + I2 >= I3) on {len(balanced)} link(s): {'; '.join(items)}{more}", stacklevel=3)
 
 
 def _to_body(I_link: np.ndarray, R: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -288,15 +388,22 @@ def _mass_properties(I: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
     return m, c, 0.5 * (I_com + I_com.T)
 
 
-def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None = None) -> Model:
+def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None = None, *,
+                    xacro: XacroOptions | None = None, balance_inertia: bool | None = None) -> Model:
     """The :class:`Model` of a URDF or xacro file, with the hydrodynamics and environment of ``extras``.
+
+    ``xacro`` (what a xacro may read beyond its folder) and ``balance_inertia`` (accept an inertia breaking
+    the triangle inequality with its principal moments set to their mean, :func:`balanced_inertia`) replace
+    those of ``extras`` when given.
 
     Raises:
         UvmsInputError: unreadable or invalid description, or additions naming links it lacks (one line).
     """
     source = str(path)
     extras = extras or VehicleExtras()
-    robot = _parse(read_urdf_text(path), source)
+    xacro = extras.xacro if xacro is None else xacro
+    balanced: list | None = [] if (extras.balance_inertia if balance_inertia is None else balance_inertia) else None
+    robot = _parse(read_urdf_text(path, xacro), source)
     _warn_missing_meshes(robot, Path(path).parent, source)
     root, children = _tree(robot, source)
     links = {link.name: link for link in robot.links}
@@ -327,7 +434,7 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
                 axes.append(axis)
         frames.append((name, b, R, p, depth))
         body = bodies[b]
-        body.inertia = body.inertia + _to_body(_link_inertia(links[name], source), R, p)
+        body.inertia = body.inertia + _to_body(_link_inertia(links[name], source, balanced), R, p)
         hydro = extras.links.get(name)
         if hydro is not None:
             hydro.density = extras.density
@@ -335,7 +442,7 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
         pending = []
         for joint in children[name]:
             axis = _check_joint(joint, source, extras.fixed_joints)
-            R_o, p_o = _pose(joint.origin)
+            R_o, p_o = _pose(joint.origin, source, f"joint {joint.name!r}")
             if axis is None:
                 pending.append((joint.child, b, R @ R_o, p + R @ p_o, depth + 1, None))
             else:
@@ -346,7 +453,9 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
         extras.vehicle_hydro.density = extras.density
         _merge_hydro(bodies[0], extras.vehicle_hydro, _Placement(root, np.eye(3), np.zeros(3), 0, root, links[root]),
                      (source, extras.source))
-    return _assemble(bodies, axes, frames, extras, robot.name, source)
+    model = _assemble(bodies, axes, frames, extras, robot.name, source)
+    _warn_balanced(balanced or [], source)
+    return model
 
 
 def collision_shapes(link, drag_coefficient: float, source: str | None = None) -> list:
@@ -474,25 +583,19 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
     damping, friction = np.zeros(n), np.zeros(n)
     speed = np.full(n, np.nan)
     for k, joint in enumerate(joints):
-        lim = joint.limit
-        if lim is not None:
-            if joint.type != "continuous":          # a continuous joint has no position limits
-                limits[k, 0] = -np.inf if lim.lower is None else float(lim.lower)
-                limits[k, 1] = np.inf if lim.upper is None else float(lim.upper)
-            if lim.effort is not None and float(lim.effort) > 0.0:
-                limits[k, 2] = float(lim.effort)
-            if lim.velocity is not None and float(lim.velocity) > 0.0:
-                limits[k, 3] = float(lim.velocity)
+        where = f"joint {joint.name!r}"
+        if joint.limit is not None:
+            limits[k] = _joint_limits(joint, source, where)
         dyn = joint.dynamics
         if dyn is not None:
             damping[k] = float(dyn.damping or 0.0)
             friction[k] = float(dyn.friction or 0.0)
         for key, value in extras.joints.get(joint.name, {}).items():
             {"damping": damping, "friction": friction, "friction_speed": speed}[key][k] = value
-        where = f"joint {joint.name!r}"
-        if damping[k] < 0.0 or friction[k] < 0.0:
-            raise UvmsInputError(f"expected damping and friction >= 0, found {damping[k]:g} and {friction[k]:g}",
-                                 source, where)
+        if not (math.isfinite(damping[k]) and math.isfinite(friction[k]) and damping[k] >= 0.0
+                and friction[k] >= 0.0):
+            raise UvmsInputError(f"expected finite damping and friction >= 0, found {damping[k]:g} and "
+                                 f"{friction[k]:g}", source, where)
     speed[np.isnan(speed)] = DEFAULT_FRICTION_SPEED
     for name in extras.joints:
         if name not in [j.name for j in joints]:
@@ -549,6 +652,34 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
         shape_drag=shape_drag_tables([b.shapes for b in bodies]),
         shape_count=np.array([len(b.shapes) for b in bodies]),
     )
+
+
+def _joint_limits(joint, source: str, where: str) -> np.ndarray:
+    """``[lower, upper, effort, velocity]`` of a joint's ``<limit>`` (``inf`` where absent; a continuous joint
+    has no position limits, an effort or velocity ``<= 0`` means none); NaN, ``lower > upper`` and infinite
+    effort or velocity written out are refused."""
+    lim = joint.limit
+    out = np.array([-np.inf, np.inf, np.inf, np.inf])
+    values = {key: None if getattr(lim, key) is None else float(getattr(lim, key))
+              for key in ("lower", "upper", "effort", "velocity")}
+    for key, value in values.items():
+        if value is not None and math.isnan(value):
+            raise UvmsInputError(f"expected a number for <limit {key}>, found NaN", source, where)
+    if joint.type != "continuous":              # a continuous joint has no position limits
+        lower, upper = values["lower"], values["upper"]
+        out[0] = -np.inf if lower is None else lower
+        out[1] = np.inf if upper is None else upper
+        if out[0] > out[1]:
+            raise UvmsInputError(f"expected <limit lower> <= upper, found lower {out[0]:g} > upper {out[1]:g}",
+                                 source, where)
+    for column, key in ((2, "effort"), (3, "velocity")):
+        value = values[key]
+        if value is not None and value > 0.0:
+            if math.isinf(value):
+                raise UvmsInputError(f"expected a finite <limit {key}>, found {value:g} (leave it out or "
+                                     "give 0 for none)", source, where)
+            out[column] = value
+    return out
 
 
 def _warn_missing_meshes(robot, base: Path, source: str) -> None:
