@@ -125,7 +125,38 @@ def test_environment_is_read_only_when_allowed(tmp_path, monkeypatch):
         uvms.load_model(path)
     assert uvms.load_model(path, allow_environment=True).mass[0] == 3.5
     (tmp_path / "m.yaml").write_text(f"urdf: {path.name}\nallow_environment: true\n")
-    assert uvms.load_model(tmp_path / "m.yaml").mass[0] == 3.5
+    with pytest.raises(UvmsInputError, match="a model file cannot allow") as info:   # a file cannot grant itself
+        uvms.load_model(tmp_path / "m.yaml")
+    assert info.value.path == "allow_environment"
+    assert uvms.load_model(tmp_path / "m.yaml", allow_environment=True).mass[0] == 3.5    # the caller can
+
+
+def test_a_model_file_cannot_name_package_folders_outside_its_own(tmp_path):
+    path = _ordinary(tmp_path / "model")
+    outside = tmp_path / "model" / "m.yaml"
+    outside.write_text("urdf: robot.urdf.xacro\npackage_paths: {tool_pkg: ../pkg}\n")
+    with pytest.raises(UvmsInputError, match="outside this file's folder") as info:
+        uvms.load_model(outside)
+    assert info.value.path == "package_paths.tool_pkg"
+    result = _uvms("validate", str(outside), cwd=tmp_path)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
+    # the caller may name it, from Python or through ROS_PACKAGE_PATH
+    assert uvms.load_model(outside, package_paths={"tool_pkg": tmp_path / "pkg"}).joint_names == ("j1",)
+    assert uvms.load_model(path, package_paths={"tool_pkg": tmp_path / "pkg"}).joint_names == ("j1",)
+
+
+def test_find_uses_the_users_ros_package_path(tmp_path, monkeypatch):
+    path = _ordinary(tmp_path / "model")
+    workspace = tmp_path / "ws" / "src"
+    (workspace / "deeper").mkdir(parents=True)
+    (tmp_path / "pkg").rename(workspace / "deeper" / "tool_pkg")
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(workspace))
+    with pytest.raises(UvmsInputError, match="ROS_PACKAGE_PATH"):   # a folder named so, without package.xml
+        uvms.load_model(path)
+    (workspace / "deeper" / "tool_pkg" / "package.xml").write_text(
+        "<package format='2'><name>tool_pkg</name></package>")
+    model = uvms.load_model(path)
+    assert "tool" in [f.name for f in model.frames]
 
 
 def test_dtd_and_entities_are_refused_in_a_xacro_and_its_includes(tmp_path):
@@ -193,7 +224,10 @@ def test_ordinary_xacro_still_expands(tmp_path, capfd):
     np.testing.assert_allclose(model.joint_limits[0], [-np.pi / 2, np.pi / 2, 10.0, 1.0])
     assert "tool" in [f.name for f in model.frames]
     assert uvms.load_model(path, package_paths=package, xacro_args={"base_mass": "30"}).mass[0] == 30.0
-    (tmp_path / "model" / "m.yaml").write_text("urdf: robot.urdf.xacro\npackage_paths: {tool_pkg: ../pkg}\n"
+    import shutil
+
+    shutil.copytree(tmp_path / "pkg", tmp_path / "model" / "pkg")    # a package inside the model file's folder
+    (tmp_path / "model" / "m.yaml").write_text("urdf: robot.urdf.xacro\npackage_paths: {tool_pkg: pkg}\n"
                                                "xacro_args: {base_mass: '25'}\n")
     assert uvms.load_model(tmp_path / "model" / "m.yaml").mass[0] == 25.0
     out, err = capfd.readouterr()

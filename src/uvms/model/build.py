@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from uvms.checks import check_joint_axis_inertia
+from uvms.errors import UvmsInputError
 from uvms.hydro.added_mass import cylinder_added_mass
 from uvms.model.model import Model
 from uvms.model.schema import ArmSpec, LinkSpec, ModelSpec, UrdfModelSpec, VehicleSpec, inertia_com
@@ -194,8 +195,9 @@ def _explicit_hydro_into(hydro, spec, rho: float, *, added_mass: bool) -> None:
     _shapes_into(hydro, spec)
 
 
-def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
-    """The :class:`Model` of a URDF (``urdf_path``, resolved by the caller) with the additions of ``spec``."""
+def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None, granted: frozenset = frozenset()):
+    """The :class:`Model` of a URDF (``urdf_path``, resolved by the caller) with the additions of ``spec``;
+    ``granted``: the fields of ``spec`` that the caller set, not the file (:func:`xacro_options`)."""
     from uvms.model.urdf import LinkHydro, VehicleExtras, model_from_urdf
 
     env = spec.environment
@@ -230,15 +232,31 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None):
         joints={name: {k: v for k, v in j.model_dump().items() if v is not None} for name, j in spec.joints.items()},
         end_effector=spec.end_effector, fixed_joints=spec.fixed_joints,
         thrusters=_thrusters(spec, source), source=source,
-        xacro=xacro_options(spec, source), balance_inertia=spec.balance_inertia,
+        xacro=xacro_options(spec, source, granted), balance_inertia=spec.balance_inertia,
     )
     return model_from_urdf(urdf_path, extras)
 
 
-def xacro_options(spec: UrdfModelSpec, source: str | None):
-    """What the additions file lets its xacro read (``package_paths`` relative to the file, docs/models.md)."""
+def xacro_options(spec: UrdfModelSpec, source: str | None, granted: frozenset = frozenset()):
+    """What the additions file lets its xacro read (docs/models.md, "What a xacro may do").
+
+    A model file is data and cannot widen what it may read: its own ``package_paths`` (relative to the file)
+    must lie inside the file's folder, and ``allow_environment: true`` is refused. ``granted`` names the fields
+    set by the caller (the keywords of :func:`uvms.model.load.load_model`), which may name any folder."""
     from uvms.model.xacro import XacroOptions
 
-    base = Path(source).parent if source else Path(".")
-    return XacroOptions(package_paths={name: base / path for name, path in spec.package_paths.items()},
-                        allow_environment=spec.allow_environment, args=dict(spec.xacro_args))
+    base = (Path(source).parent if source else Path(".")).resolve()
+    packages = {name: (base / path).resolve() for name, path in spec.package_paths.items()}
+    if "package_paths" not in granted:
+        for name, folder in packages.items():
+            if folder != base and base not in folder.parents:
+                raise UvmsInputError(f"package folder {spec.package_paths[name]!r} is outside this file's folder "
+                                     f"{base}; a model file may name only folders inside its own (name others with "
+                                     "uvms.load_model(..., package_paths=...) or ROS_PACKAGE_PATH)",
+                                     source, f"package_paths.{name}")
+    if spec.allow_environment and "allow_environment" not in granted:
+        raise UvmsInputError("a model file cannot allow its xacro to read the environment; pass "
+                             "allow_environment=True to uvms.load_model if you trust the xacro",
+                             source, "allow_environment")
+    return XacroOptions(package_paths=packages, allow_environment=spec.allow_environment,
+                        args=dict(spec.xacro_args))

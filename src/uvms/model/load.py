@@ -143,7 +143,7 @@ def _load_model_file(name_or_path, options: dict | None = None) -> tuple[Model, 
                 raise UvmsInputError(f"expected a .urdf or .xacro file, found {spec.urdf!r}", source, "urdf")
             if not urdf.exists():
                 raise UvmsInputError(f"no such file: {urdf}", source, "urdf")
-            return build_urdf_model(spec, urdf, source), (urdf,)
+            return build_urdf_model(spec, urdf, source, frozenset(options or ())), (urdf,)
         return build_model(spec, source), ()
     except UvmsInputError as exc:   # checks made while building (thruster parameters...) name the file too
         if exc.source is not None:

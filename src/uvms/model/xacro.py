@@ -569,6 +569,53 @@ def _safe_eval_hook(expr: str, globals: Any, locals: Any = None) -> Any:
         raise
 
 
+ROS_PACKAGE_SEARCH_DEPTH = 3
+"""How many folder levels below each ``ROS_PACKAGE_PATH`` entry a package is looked for (as ``rospack`` crawls
+a workspace's ``src``; bounded so that a broad entry such as ``/`` cannot make a look-up crawl a disk)."""
+MAX_PACKAGE_SEARCH_FOLDERS = 10_000
+"""Folders one ``$(find pkg)`` look-up visits at the most under ``ROS_PACKAGE_PATH``."""
+
+
+def _package_name(folder: Path) -> str | None:
+    """The ``<name>`` of the ROS ``package.xml`` in ``folder`` (``None`` without one, or when unreadable)."""
+    manifest = folder / "package.xml"
+    try:
+        if not manifest.is_file() or manifest.stat().st_size > MAX_FILE_BYTES:
+            return None
+        from defusedxml import ElementTree
+
+        element = ElementTree.fromstring(manifest.read_bytes()).find("name")
+    except Exception:       # an unreadable or invalid manifest names no package
+        return None
+    return element.text.strip() if element is not None and element.text else None
+
+
+def ros_package(name: str) -> Path | None:
+    """The folder of ROS package ``name`` under the user's ``ROS_PACKAGE_PATH`` (``:``-separated folders,
+    each a package or a folder holding packages up to :data:`ROS_PACKAGE_SEARCH_DEPTH` levels down; a package
+    is a folder with a ``package.xml`` whose ``<name>`` is ``name``), or ``None``.
+
+    The environment variable is the user's own setting, not the model file's: a package found through it is a
+    folder the user named (``docs/models.md``, "What a xacro may do")."""
+    visited = 0
+    for entry in filter(None, os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep)):
+        level = [Path(entry)]
+        for _ in range(ROS_PACKAGE_SEARCH_DEPTH + 1):
+            below = []
+            for folder in level:
+                visited += 1
+                if visited > MAX_PACKAGE_SEARCH_FOLDERS:
+                    return None
+                if _package_name(folder) == name:
+                    return folder.resolve()
+                try:
+                    below.extend(sorted(p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")))
+                except OSError:
+                    continue
+            level = below
+    return None
+
+
 def _extension_hook(text: str) -> Any:
     """xacro's ``eval_extension``: ``$(arg)``, ``$(find)`` of a named package, ``$(dirname)``, ``$(eval)``,
     and ``$(env)`` / ``$(optenv)`` only when allowed."""
@@ -583,8 +630,12 @@ def _extension_hook(text: str) -> Any:
     if command == "find" and len(words) == 1:
         folder = ctx.options.package_paths.get(words[0])
         if folder is None:
-            raise _refuse(f"$(find {words[0]}): package {words[0]!r} is not named; give its folder in "
-                          "package_paths (a xacro may read only its own folder and the packages you name)")
+            folder = ros_package(words[0])
+            if folder is None:
+                raise _refuse(f"$(find {words[0]}): package {words[0]!r} is not named; give its folder in "
+                              "package_paths, or add the folder holding it to ROS_PACKAGE_PATH (a xacro may "
+                              "read only its own folder and the packages you name)")
+            ctx.roots = (*ctx.roots, folder)
         return str(Path(folder).resolve())
     if command in ("env", "optenv") and words:
         if not ctx.options.allow_environment:
