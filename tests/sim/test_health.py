@@ -141,3 +141,119 @@ def test_scenario_health_limits_are_checked(health, path, words):
     with pytest.raises(UvmsInputError) as info:
         scenario_from_data({**copy.deepcopy(CASE3), "health": health}, source="case.yaml")
     assert str(info.value) == f"case.yaml: {path}: {words}"
+
+
+# ------------------------------------------------------------------ loss of station, unproducible wrench
+
+def _allocated_run(commands, thrusters):
+    """A constructed run whose logged wrench signals are what the layout's allocation gives for each commanded
+    wrench row (``commands`` (K, 6) [K M N X Y Z]): ``unachieved`` is the residual of the Python bounded
+    least squares (:func:`uvms.thrusters.allocation.allocate`), independent of the compiled loop's."""
+    from uvms.thrusters.allocation import allocate
+    from uvms.thrusters.layouts import layout_matrix, thrust_limits
+
+    commands = np.asarray(commands, dtype=float)
+    Lambda, (lower, upper) = layout_matrix(thrusters), thrust_limits(thrusters)
+    residual = np.array([allocate(Lambda, w, lower, upper).residual for w in commands])
+    K = len(commands)
+    signals = {**{f"command_{a}": commands[:, j] for j, a in enumerate("KMNXYZ")},
+               **{f"unachieved_{a}": residual[:, j] for j, a in enumerate("KMNXYZ")}}
+    return constructed(np.zeros((K, 3)), np.zeros((K, 3)), signals=signals, time=np.linspace(0.0, 1.0, K))
+
+
+def _wrench(X=0.0, Y=0.0, N=0.0, K=5):
+    return np.tile([0.0, 0.0, N, X, Y, 0.0], (K, 1))
+
+
+def test_unproducible_share_in_closed_form():
+    """The paper's three thrusters (two surge, one heave) span no sway force: a pure sway command is 100 %
+    unproducible, the component of the command outside range(Lambda) (its projection on the left null space,
+    computed by SVD); a pure surge command 0 %; 30 N sway with 40 N surge 3/5; a surge command beyond the two
+    surge thrusters' limits the residual of the bounded allocation, (X - 2 T_max) / X."""
+    from uvms.thrusters.allocation import unachievable_part
+    from uvms.thrusters.layouts import layout, layout_matrix, thrust_limits
+
+    paper = layout("paper")
+    sway = _allocated_run(_wrench(Y=80.0), paper)
+    h = run_health(sway)
+    assert h.unproduced_share_force == 1.0 and h.unproduced_share_moment == 0.0
+    np.testing.assert_allclose(sway.signals["unachieved_Y"], unachievable_part(layout_matrix(paper), _wrench(Y=80.0)[0])[4])
+    assert not h.healthy and h.warning == (
+        "unhealthy run (control lost?): 100 % of the commanded force could not be produced by the thrusters "
+        "(limit 25 %); wrench not produced: peak 80 N, 0 N m")
+
+    surge = run_health(_allocated_run(_wrench(X=40.0, N=2.0), paper))
+    assert surge.unproduced_share_force == pytest.approx(0.0, abs=1e-12) and surge.healthy
+    assert surge.unproduced_share_moment == pytest.approx(0.0, abs=1e-12) and surge.warning == ""
+
+    mixed = run_health(_allocated_run(_wrench(X=40.0, Y=30.0), paper))
+    assert mixed.unproduced_share_force == pytest.approx(0.6, rel=1e-12)
+
+    t_max = float(thrust_limits(paper)[1][0])
+    beyond = run_health(_allocated_run(_wrench(X=2 * t_max + 20.0), paper))
+    assert beyond.unproduced_share_force == pytest.approx(20.0 / (2 * t_max + 20.0), rel=1e-9)
+
+    with_sway = run_health(_allocated_run(_wrench(Y=30.0), layout("paper-sway")))
+    assert with_sway.unproduced_share_force == pytest.approx(0.0, abs=1e-12) and with_sway.healthy
+
+
+def test_unproduced_share_weights_the_samples_and_its_limit_decides():
+    """Shares weight each sample by its hold time and by the commanded magnitude; a short 100 % burst in a long
+    run of produced commands is a small share; ``unproduced_limit`` decides."""
+    from uvms.thrusters.layouts import layout
+
+    commands = np.vstack([_wrench(Y=10.0, K=1), _wrench(X=10.0, K=9)])      # 1 of 9 held intervals sway
+    r = _allocated_run(commands, layout("paper"))
+    h = run_health(r)
+    assert h.unproduced_share_force == pytest.approx(1 / 9, rel=1e-12) and h.healthy
+    assert not run_health(r, limits=HealthLimits(unproduced_limit=0.1)).healthy
+    r.metadata["health_limits"] = {"unproduced_limit": 0.05}
+    assert "could not be produced" in run_health(r).warning
+
+
+def test_station_departure_by_hand_and_across_waypoints():
+    """|e| = 0, 0.6, 1.3, 0.2 m: the vehicle left its station by 1.3 m (limit 1 m: unhealthy). A set point that
+    moves 3 m away (a waypoint at t = 2 s) starts a new segment: only the rise above the lowest distance since
+    then counts (3.0 -> 0.5 -> 0.9: 0.4 m)."""
+    from uvms.sim.health import station_departure
+
+    t = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]
+    e_surge = np.array([NAN, 0.0, 0.6, 1.2, 0.2, 0.2])
+    e_sway = np.array([NAN, 0.0, 0.0, 0.5, 0.0, 0.0])
+    r = constructed(np.zeros((6, 3)), np.zeros((6, 3)), signals={"e_surge": e_surge, "e_sway": e_sway}, time=t)
+    h = run_health(r)
+    assert h.station_departure == pytest.approx(1.3, rel=1e-12) and not h.healthy
+    assert h.warning == "unhealthy run (control lost?): left its station by 1.3 m (limit 1 m)"
+    assert run_health(r, limits=HealthLimits(station_limit=1.5)).healthy
+    assert h.as_dict()["station"] == {"peak_departure_m": pytest.approx(1.3), "limit_m": 1.0}
+
+    moving = np.array([NAN, 0.0, 3.0, 0.5, 0.9, 0.5])
+    assert station_departure(t, moving[:, None]) == pytest.approx(3.0)
+    assert station_departure(t, moving[:, None], changes=[2.0]) == pytest.approx(0.4)
+    r = constructed(np.zeros((6, 3)), np.zeros((6, 3)), signals={"e_heave": moving}, time=t,
+                    metadata={"set_point_changes_s": [2.0], "step_s": 0.001})
+    assert run_health(r).healthy and run_health(r).station_departure == pytest.approx(0.4)
+
+
+def test_set_point_changes_are_the_updates_at_or_after_each_waypoint():
+    """Waypoints at 0.5 s, 0.123 s and beyond the run, a controller every 10 steps of 1 ms: the set point changes
+    at the updates of 0.5 s and 0.13 s (the first at or after the waypoint's time)."""
+    from types import SimpleNamespace
+
+    from uvms.sim.health import set_point_metadata
+    from uvms.sim.plan import Timing
+
+    controller = SimpleNamespace(parameters=SimpleNamespace(waypoints=((0.5, 1, 0, 0, 0, 0, 0),
+                                                                       (0.123, 0, 0, 0, 0, 0, 0),
+                                                                       (9.0, 0, 0, 0, 0, 0, 0))))
+    plan = SimpleNamespace(controller=controller, control_every=10, timing=Timing.of(1.0, 0.001))
+    changes = set_point_metadata(plan)["set_point_changes_s"]
+    assert changes == pytest.approx([0.13, 0.5], rel=1e-12)
+    assert set_point_metadata(SimpleNamespace(controller=None, control_every=0, timing=plan.timing)) == {}
+
+
+def test_runs_without_a_station_or_thrusters_are_not_assessed():
+    """No logged position error (no controller) and no commanded wrench: neither check applies (None)."""
+    h = run_health(hand_result(roll_deg=0.0))
+    assert h.station_departure is None and h.unproduced_share_force is None and h.unproduced_share_moment is None
+    assert h.as_dict()["unproduced"] == {"force_share": None, "moment_share": None, "limit": 0.25}
