@@ -133,7 +133,10 @@ def test_uvms_run_prints_one_warning_line_and_exits_0(tmp_path, monkeypatch):
 @pytest.mark.parametrize("health, path, words", [
     ({"saturation_limit": 1.5}, "health.saturation_limit", "expected a number <= 1, found 1.5"),
     ({"attitude_limit": 0}, "health.attitude_limit", "expected a number > 0, found 0"),
-    ({"attitude": 1.0}, "health.attitude", "unknown key; expected one of: attitude_limit, saturation_limit"),
+    ({"attitude": 1.0}, "health.attitude", "unknown key; expected one of: attitude_limit, saturation_limit, "
+                                           "station_limit, unproduced_limit"),
+    ({"station_limit": -1.0}, "health.station_limit", "expected a number > 0, found -1.0"),
+    ({"unproduced_limit": 2}, "health.unproduced_limit", "expected a number <= 1, found 2"),
 ])
 def test_scenario_health_limits_are_checked(health, path, words):
     from uvms.sim.scenario import scenario_from_data
@@ -257,3 +260,59 @@ def test_runs_without_a_station_or_thrusters_are_not_assessed():
     h = run_health(hand_result(roll_deg=0.0))
     assert h.station_departure is None and h.unproduced_share_force is None and h.unproduced_share_moment is None
     assert h.as_dict()["unproduced"] == {"force_share": None, "moment_share": None, "limit": 0.25}
+
+
+def _side_current(tmp_path, actuators: str, duration: float = 20.0):
+    """Paper case 3 (smc-ab) with ``actuators`` in a 0.4 m/s current from the side (world y)."""
+    data = copy.deepcopy(CASE3)
+    data.update(name=f"side_{actuators}", duration=duration, actuators=actuators)
+    data["inputs"]["current"] = {"constant": [0.0, 0.4, 0.0]}
+    path = tmp_path / f"side_{actuators}.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    return path
+
+
+def test_the_papers_three_thrusters_in_a_side_current_lose_their_station(tmp_path, monkeypatch):
+    """The issue's case: the paper's layout (no sway thruster) in a 0.4 m/s side current is swept several metres
+    off station while nearly all the commanded force is sway that no thruster produces: unhealthy, both said on
+    one warning line, exit 0. Nothing saturates (the old health said healthy). The logged unproduced force is the
+    component of the command outside range(Lambda) (SVD projection, computed here independently) at every
+    update. With the sway thruster the same run holds its station: healthy."""
+    from uvms.sim.scenario import load_scenario, run_scenario
+    from uvms.thrusters.allocation import unachievable_part
+    from uvms.thrusters.layouts import layout, layout_matrix
+
+    result = run_scenario(load_scenario(_side_current(tmp_path, "paper")))
+    h = result.health()
+    assert result.complete and not h.healthy and max(h.saturated_fraction.values()) == 0.0
+    assert h.station_departure > 3.0 and h.unproduced_share_force > 0.95
+    assert "left its station by" in h.warning and "of the commanded force could not be produced" in h.warning
+    commanded = np.column_stack([result.signals[f"command_{a}"] for a in "KMNXYZ"])
+    unproduced = np.column_stack([result.signals[f"unachieved_{a}"] for a in "KMNXYZ"])
+    ok = np.all(np.isfinite(commanded), axis=1)
+    Lambda = layout_matrix(layout("paper"))
+    expected = np.array([unachievable_part(Lambda, w) for w in commanded[ok]])
+    np.testing.assert_allclose(unproduced[ok], expected, atol=1e-9 * np.abs(commanded[ok]).max())
+
+    held = run_scenario(load_scenario(_side_current(tmp_path, "paper-sway")))
+    assert held.health().healthy and held.health().station_departure < 0.05
+
+    stdout, stderr = io.StringIO(), io.StringIO()
+    monkeypatch.setattr(sys, "stdout", stdout)
+    monkeypatch.setattr(sys, "stderr", stderr)
+    assert main(["run", str(_side_current(tmp_path, "paper", duration=10.0)), "-o", str(tmp_path / "out")]) == 0
+    lines = [line for line in stderr.getvalue().splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("uvms: warning: unhealthy run (control lost?): ")
+    assert "could not be produced" in lines[0]
+    saved = json.loads((tmp_path / "out" / "result.json").read_text())
+    assert saved["health"]["healthy"] is False and saved["health"]["unproduced"]["force_share"] > 0.95
+
+
+def test_the_bundled_six_axis_hold_stays_healthy():
+    """The BlueROV2 Heavy + Alpha 5 holding six axes while the arm reaches: on station within a millimetre,
+    every commanded wrench produced."""
+    from uvms.sim.scenario import load_scenario, run_scenario
+
+    h = run_scenario(load_scenario("bluerov2_heavy_alpha5_hold6")).health()
+    assert h.healthy and h.warning == ""
+    assert h.station_departure < 1e-3 and h.unproduced_share_force < 1e-9 and h.unproduced_share_moment < 1e-9
