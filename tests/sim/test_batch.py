@@ -82,3 +82,36 @@ def test_a_python_controller_is_sent_to_simulate(paper):
 
     with pytest.raises(UvmsInputError, match=r"^trials\[0\]: expected bundled controllers"):
         uvms.rollout(paper, [uvms.State.zero(paper)], duration=0.01, controller=Mine())
+
+
+def test_a_million_trials_are_refused_at_once(paper):
+    """``rollout`` of 10^6 trials used to run out of memory building them: more than MAX_TRIALS is one line
+    naming ``trials``, in well under a second (nothing built)."""
+    import time
+
+    from uvms.sim.batch import MAX_TRIALS
+
+    trials = [uvms.State.zero(paper)] * 10**6
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=rf"^trials: expected at most {MAX_TRIALS} trials in one rollout, got "
+                                             r"1000000"):
+        uvms.rollout(paper, trials, duration=1.0)
+    assert time.perf_counter() - tic < 1.0
+
+
+def test_records_beyond_the_memory_limit_are_refused_before_they_are_allocated(paper):
+    """A batch whose records together exceed MAX_RECORDED_VALUES is refused naming ``trials`` after one plan;
+    one run recording every step of a day is refused naming ``record_period`` (simulate and rollout alike)."""
+    import time
+
+    from uvms.sim.plan import MAX_RECORDED_VALUES
+
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=r"^trials: expected at most 2e\+08 recorded values in all, found 5000 "
+                                             r"trials x"):
+        uvms.rollout(paper, [uvms.State.zero(paper)] * 5000, duration=100.0, record_period=1e-3)
+    with pytest.raises(UvmsInputError, match=r"^record_period: expected at most 2e\+08 recorded values"):
+        uvms.simulate(paper, duration=86400.0, step=1e-3, record_period=1e-3)
+    with pytest.raises(UvmsInputError, match=r"^record_period: expected at most 2e\+08 recorded values"):
+        uvms.rollout(paper, [uvms.State.zero(paper)], duration=86400.0, record_period=1e-3)
+    assert time.perf_counter() - tic < 3.0 and MAX_RECORDED_VALUES == 2 * 10**8
