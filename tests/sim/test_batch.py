@@ -67,6 +67,7 @@ def test_states_alone_are_trials(paper):
     (None, {"threads": 0}, "threads"),
     (None, {"threads": 1.5}, "threads"),
     (None, {"progress": "yes"}, "progress"),
+    (None, {"threads": 10**6}, "threads"),
 ])
 def test_bad_batches_are_one_line(paper, trials, options, argument):
     with pytest.raises(UvmsInputError, match=rf"^{argument}: expected"):

@@ -119,6 +119,8 @@ def test_sizes_and_steps_beyond_the_limits_are_refused_at_once(model):
     tic = time.perf_counter()
     with pytest.raises(UvmsInputError, match=rf"^n: expected at most {MAX_MEMBERS} members, got 1000000"):
         BatchSimulator(model, 10**6, step=1e-3)
+    with pytest.raises(UvmsInputError, match=r"^threads: expected at most 1024 threads, got 1000000"):
+        BatchSimulator(model, 2, step=1e-3, threads=10**6)
     assert time.perf_counter() - tic < 1.0
     batch = BatchSimulator(model, 2, step=1e-3, threads=1)
     before = batch.x.copy()

@@ -22,6 +22,10 @@ from uvms import checks
 from uvms.sim.options import Inputs, grouped
 from uvms.sim.plan import MAX_RECORDED_VALUES, RunPlan, Timing
 
+MAX_THREADS = 1024
+"""Most threads of one :func:`rollout` or :class:`~uvms.sim.batch_stepper.BatchSimulator` (each an operating
+system thread with its own stack)."""
+
 MAX_TRIALS = 10_000
 """Most trials of one :func:`rollout` (each holds its own compiled plant, controller and record); more are
 refused before anything is built. Their records together are bounded too
@@ -154,6 +158,8 @@ def rollout(model, trials: Sequence[Trial | State], *, duration: float, step: fl
     checks.model(model)
     timing = Timing.of(duration, step)
     threads = checks.count(options.pop("threads", os.cpu_count() or 1), "threads", minimum=1)
+    if threads > MAX_THREADS:
+        raise checks.fail("threads", f"expected at most {MAX_THREADS} threads, got {threads}")
     progress: Callable[[int, int], None] | None = options.pop("progress", None)
     checks.callable_or_none(progress, "progress", "progress(done, total)")
     if isinstance(trials, (State, Trial)) or not isinstance(trials, Sequence) or not len(trials):

@@ -109,6 +109,10 @@ class BatchSimulator:
         self.x = np.stack([m.x for m in self.members])
         self._all = np.ones(self.n, dtype=np.bool_)
         threads = (os.cpu_count() or 1) if threads is None else checks.count(threads, "threads", minimum=1)
+        from uvms.sim.batch import MAX_THREADS
+
+        if threads > MAX_THREADS:
+            raise checks.fail("threads", f"expected at most {MAX_THREADS} threads, got {threads}")
         self.threads = min(threads, self.n)
         bounds = np.linspace(0, self.n, self.threads + 1).round().astype(int)
         self._blocks = [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
