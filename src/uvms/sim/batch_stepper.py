@@ -93,6 +93,11 @@ class BatchSimulator:
         self.n = checks.count(n, "n", minimum=1)
         if self.n > MAX_MEMBERS:
             raise checks.fail("n", f"expected at most {MAX_MEMBERS} members, got {self.n}")
+        if threads is not None:
+            from uvms.sim.batch import MAX_THREADS
+
+            if checks.count(threads, "threads", minimum=1) > MAX_THREADS:
+                raise checks.fail("threads", f"expected at most {MAX_THREADS} threads, got {threads}")
         self.h = checks.number(step, "step", positive=True, unit="s")
         self._shared = (controller, actuation)
         per_member = self._per_member(inputs, "inputs", Inputs)
@@ -109,10 +114,6 @@ class BatchSimulator:
         self.x = np.stack([m.x for m in self.members])
         self._all = np.ones(self.n, dtype=np.bool_)
         threads = (os.cpu_count() or 1) if threads is None else checks.count(threads, "threads", minimum=1)
-        from uvms.sim.batch import MAX_THREADS
-
-        if threads > MAX_THREADS:
-            raise checks.fail("threads", f"expected at most {MAX_THREADS} threads, got {threads}")
         self.threads = min(threads, self.n)
         bounds = np.linspace(0, self.n, self.threads + 1).round().astype(int)
         self._blocks = [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
