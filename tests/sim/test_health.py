@@ -180,6 +180,7 @@ def test_unproducible_share_in_closed_form():
     sway = _allocated_run(_wrench(Y=80.0), paper)
     h = run_health(sway)
     assert h.unproduced_share_force == 1.0 and h.unproduced_share_moment == 0.0
+    assert compute_metrics(sway, ["unproduced_force_share"]) == {"unproduced_force_share": 1.0}
     np.testing.assert_allclose(sway.signals["unachieved_Y"], unachievable_part(layout_matrix(paper), _wrench(Y=80.0)[0])[4])
     assert not h.healthy and h.warning == (
         "unhealthy run (control lost?): 100 % of the commanded force could not be produced by the thrusters "
@@ -229,6 +230,8 @@ def test_station_departure_by_hand_and_across_waypoints():
     assert h.warning == "unhealthy run (control lost?): left its station by 1.3 m (limit 1 m)"
     assert run_health(r, limits=HealthLimits(station_limit=1.5)).healthy
     assert h.as_dict()["station"] == {"peak_departure_m": pytest.approx(1.3), "limit_m": 1.0}
+    named = compute_metrics(r, ["peak_station_departure_m", "unproduced_force_share", "unproduced_moment_share"])
+    assert named["peak_station_departure_m"] == pytest.approx(1.3) and math.isnan(named["unproduced_force_share"])
 
     moving = np.array([NAN, 0.0, 3.0, 0.5, 0.9, 0.5])
     assert station_departure(t, moving[:, None]) == pytest.approx(3.0)
