@@ -181,7 +181,9 @@ def test_unproducible_share_in_closed_form():
     h = run_health(sway)
     assert h.unproduced_share_force == 1.0 and h.unproduced_share_moment == 0.0
     assert compute_metrics(sway, ["unproduced_force_share"]) == {"unproduced_force_share": 1.0}
-    np.testing.assert_allclose(sway.signals["unachieved_Y"], unachievable_part(layout_matrix(paper), _wrench(Y=80.0)[0])[4])
+    outside = unachievable_part(layout_matrix(paper), _wrench(Y=80.0)[0])      # SVD: the left null space
+    np.testing.assert_allclose(outside, [0, 0, 0, 0, 80.0, 0], atol=1e-12)
+    np.testing.assert_allclose(sway.signals["unachieved_Y"], outside[4])
     assert not h.healthy and h.warning == (
         "unhealthy run (control lost?): 100 % of the commanded force could not be produced by the thrusters "
         "(limit 25 %); wrench not produced: peak 80 N, 0 N m")

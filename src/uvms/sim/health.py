@@ -27,9 +27,10 @@ updates, a zero-order hold; the last sample has no weight; NaN samples before th
 count for nothing). A run is *unhealthy* when ``max(|roll|, |pitch|)`` exceeds ``attitude_limit`` (default 60
 deg), a thruster is saturated more than ``saturation_limit`` of the time (default 0.25), the vehicle left its
 station by more than ``station_limit`` (default 1 m) or more than ``unproduced_limit`` (default 0.25) of the
-commanded force or moment was not produced; its ``warning`` is then one line saying why. The thrust limits come from the run's ``metadata["thrust_limits_N"]`` (``{name:
-[lower, upper]}``, written by :func:`uvms.sim.scenario.run_scenario`) or the ``thrusters`` argument; without
-either, saturation is not assessed. The health limits come from ``metadata["health_limits"]`` (a scenario's
+commanded force or moment was not produced; its ``warning`` is then one line saying why. The thrust limits
+come from the run's ``metadata["thrust_limits_N"]`` (``{name: [lower, upper]}``, written by
+:func:`uvms.sim.scenario.run_scenario`) or the ``thrusters`` argument; without either, saturation is not
+assessed. The health limits come from ``metadata["health_limits"]`` (a scenario's
 ``health`` section) unless given.
 """
 
