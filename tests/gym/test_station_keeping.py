@@ -282,6 +282,7 @@ def test_bad_vector_actions_change_nothing():
     ({"duration": 3601.0}, "duration"),
     ({"arm_period": 1e-9}, "arm_period"),
     ({"step": 1e-9, "dt": 1e-9}, "step"),
+    ({"dt": 1e6, "step": 0.005}, "dt"),
 ])
 def test_sizes_beyond_the_limits_are_refused_at_once(options, argument):
     """``duration=1e12`` used to run out of memory drawing the episode: the episode is at most the step API's

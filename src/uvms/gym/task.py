@@ -202,6 +202,9 @@ class StationKeepingTask:
         if duration > HORIZON:
             raise checks.fail("duration", f"expected an episode of at most {HORIZON:g} s (the step API's horizon, "
                                           f"uvms.sim.stepper.HORIZON), got {duration:g} s")
+        if self.dt > duration:
+            raise checks.fail("dt", f"expected an environment step of at most the episode's duration ({duration:g} s), "
+                                    f"got {self.dt:g} s")
         self.max_steps = max(1, int(round(duration / self.dt)))
         for name in ("initial_position", "initial_attitude", "current"):
             checks.number(getattr(c, name), name, nonnegative=True)
