@@ -116,3 +116,16 @@ def test_records_beyond_the_memory_limit_are_refused_before_they_are_allocated(p
     with pytest.raises(UvmsInputError, match=r"^record_period: expected at most 2e\+08 recorded values"):
         uvms.rollout(paper, [uvms.State.zero(paper)], duration=86400.0, record_period=1e-3)
     assert time.perf_counter() - tic < 3.0 and MAX_RECORDED_VALUES == 2 * 10**8
+
+
+def test_a_noisy_imu_noise_table_beyond_the_limit_is_refused_at_once(paper):
+    """``smc-ne`` with a noisy IMU draws its noise for every update before the run: 5 x 10^8 updates (a
+    6 x 8 x 5e8 byte table) are refused naming ``duration``, in well under a second once the kernels are loaded."""
+    import time
+
+    controller = make_controller("smc-ne", paper, period=0.001, parameters={"imu_noise": 0.05})
+    assert uvms.simulate(paper, duration=0.01, controller=controller).complete
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=r"^duration: expected at most 3.33e\+07 updates of a noisy IMU"):
+        uvms.simulate(paper, duration=5e5, step=1e-3, controller=controller)
+    assert time.perf_counter() - tic < 1.0
