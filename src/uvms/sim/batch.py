@@ -21,6 +21,8 @@ import numpy as np
 from uvms import checks
 from uvms.sim.options import Inputs, grouped
 from uvms.sim.plan import MAX_RECORDED_VALUES, RunPlan, Timing
+from uvms.sim.result import Result
+from uvms.state import State
 
 MAX_THREADS = 1024
 """Most threads of one :func:`rollout` or :class:`~uvms.sim.batch_stepper.BatchSimulator` (each an operating
@@ -30,8 +32,6 @@ MAX_TRIALS = 10_000
 """Most trials of one :func:`rollout` (each holds its own compiled plant, controller and record); more are
 refused before anything is built. Their records together are bounded too
 (:data:`~uvms.sim.plan.MAX_RECORDED_VALUES`)."""
-from uvms.sim.result import Result
-from uvms.state import State
 
 
 @dataclass(frozen=True)

@@ -156,10 +156,11 @@ def steps_of(duration, h: float, done: int = 0) -> int:
     work) unless it is at least one step and the steps since the reset stay within
     :data:`~uvms.sim.plan.MAX_STEPS` (10^9, the scenarios' limit)."""
     seconds = checks.number(duration, "duration", positive=True, unit="s")
-    steps = seconds / h                          # a float: 1e300 s is refused, not rounded to a huge integer
-    if not steps <= MAX_STEPS - done + 0.5:
+    ratio = seconds / h                          # a float: 1e300 s is refused, not rounded to a huge integer
+    steps = round(ratio) if ratio <= 2.0 * MAX_STEPS else MAX_STEPS + 1
+    if steps > MAX_STEPS - done:
         raise checks.fail("duration", f"expected at most {MAX_STEPS:.0e} steps of {h:g} s since the last reset "
                                       f"({(MAX_STEPS - done) * h:.6g} s left), got {seconds:.6g} s")
-    if round(steps) < 1:
+    if steps < 1:
         raise checks.fail("duration", f"expected at least one step of {h:g} s, got {duration!r}")
-    return int(round(steps))
+    return int(steps)
