@@ -60,3 +60,21 @@ def test_repeated_q_options_add_up(capsys):
     apart = capsys.readouterr().out
     assert main(["trim", "bluerov2_heavy_alpha5", "--q", "axis_d=0.4", "axis_c=0.4", "--json"]) == 0
     assert capsys.readouterr().out == apart
+
+
+@pytest.mark.parametrize("argv, expected", [
+    (["--max", "-1"], "uvms: error: --max: expected a finite number >= 0, found -1.0"),
+    (["--region", "nan", "0", "0", "1", "1", "1"], "uvms: error: --region: expected finite corners"),
+    (["--region", "0.2", "-0.2", "-0.1", "-0.2", "0.2", "0.1"],
+     "uvms: error: --region: expected the lower corner first (x0 <= x1)"),
+    (["--ballast", "foam", "--foam-density", "1100"], "uvms: error: --foam-density: expected a foam density"),
+    (["--foam-density", "nan"], "uvms: error: --foam-density: expected a foam density"),
+    (["--min-arm", "inf"], "uvms: error: --min-arm: expected a finite number >= 0, found inf"),
+])
+def test_options_are_checked_when_no_ballast_is_needed(capsys, argv, expected):
+    """The arm at its start pose: the BlueROV2 rests level (no ballast computed), yet every option is checked."""
+    level = ["trim", "bluerov2_heavy_alpha5", "--q", "axis_d=0.4", "axis_c=0.4"]
+    assert main(level) == 0 and "level already" in capsys.readouterr().out
+    assert main([*level, *argv]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.startswith(expected) and err.count("\n") == 1

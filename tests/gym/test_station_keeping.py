@@ -236,3 +236,72 @@ def test_commands_mode_spans_the_thrust_limits():
         b, rb, *_ = thrust.step(np.zeros(8))
     np.testing.assert_array_equal(a, b)
     assert ra == rb
+
+
+@pytest.mark.parametrize("action, words", [
+    (np.zeros(7), "expected 8 finite values (the action space's thrusters bounds: shape (8,)), got shape (7,)"),
+    (np.zeros((1, 8)), "got shape (1, 8)"),
+    (None, "got None"),
+    ("forward", "'forward'"),
+    ([True] * 8, "got values of type bool"),
+    (np.full(8, np.nan), "got nan at index 0"),
+    (np.r_[np.zeros(7), np.inf], "got inf at index 7"),
+])
+def test_bad_actions_are_one_line_naming_the_action(action, words):
+    """Gymnasium leaves invalid actions to the environment: an action of the wrong shape or type, or not finite,
+    is one UvmsInputError line (a ValueError) naming ``action``; the episode does not advance. Finite actions
+    outside the box are clipped."""
+    env = gymnasium.make(ENV_ID, **SHORT).unwrapped
+    env.reset(seed=0)
+    before = pack(env.simulator.state)
+    with pytest.raises(UvmsInputError) as info:
+        env.step(action)
+    assert isinstance(info.value, ValueError) and str(info.value) == f"action: {info.value.message}"
+    assert words in str(info.value) and "\n" not in str(info.value)
+    assert env.simulator.steps_done == 0 and np.array_equal(pack(env.simulator.state), before)
+    env.step(np.full(8, 1e9))                                      # clipped to the box: fine
+
+
+def test_bad_vector_actions_change_nothing():
+    venv = gymnasium.make_vec(ENV_ID, num_envs=2, duration=0.1, threads=1)
+    venv.reset(seed=0)
+    x = venv.unwrapped.batch.x.copy() if hasattr(venv, "unwrapped") else venv.batch.x.copy()
+    batch = venv.unwrapped.batch if hasattr(venv, "unwrapped") else venv.batch
+    for bad, words in ((np.zeros((3, 8)), "got shape (3, 8)"), (np.full((2, 8), np.nan), "got nan at row 0"),
+                       (None, "got None")):
+        with pytest.raises(UvmsInputError, match=r"^actions: expected 2 rows of 8 finite values") as info:
+            venv.step(bad)
+        assert words in str(info.value)
+    np.testing.assert_array_equal(batch.x, x)
+    assert (batch.done == 0).all()
+    venv.close()
+
+
+@pytest.mark.parametrize("options, argument", [
+    ({"duration": 1e12}, "duration"),
+    ({"duration": 3601.0}, "duration"),
+    ({"arm_period": 1e-9}, "arm_period"),
+    ({"step": 1e-9, "dt": 1e-9}, "step"),
+    ({"dt": 1e6, "step": 0.005}, "dt"),
+])
+def test_sizes_beyond_the_limits_are_refused_at_once(options, argument):
+    """``duration=1e12`` used to run out of memory drawing the episode: the episode is at most the step API's
+    horizon (3600 s), the arm motion at most MAX_ARM_KNOTS knots, the step at least horizon / MAX_STEPS; each
+    refused in well under a second, naming the option."""
+    import time
+
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=rf"^{argument}: expected"):
+        gymnasium.make(ENV_ID, **options)
+    assert time.perf_counter() - tic < 1.0
+
+
+def test_a_million_vector_environments_are_refused_at_once():
+    import time
+
+    from uvms.sim.batch_stepper import MAX_MEMBERS
+
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=rf"^num_envs: expected at most {MAX_MEMBERS} environments"):
+        gymnasium.make_vec(ENV_ID, num_envs=10**6)
+    assert time.perf_counter() - tic < 1.0

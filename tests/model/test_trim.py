@@ -155,3 +155,31 @@ def test_coinciding_centres_are_levelled_with_a_righting_arm(vehicle):
     b = level_ballast(model, s, region=[[-0.2, -0.2, -Z], [0.2, 0.2, Z]], min_arm=0.002)
     assert b.amount == pytest.approx(32.0 * 0.002 / (Z - 0.002), rel=1e-9)
     assert b.righting_arm_after_m == pytest.approx(0.002, rel=1e-9)
+
+
+@pytest.mark.parametrize("options, path, words", [
+    ({"max_amount": -1.0}, "max_amount", "expected a finite number >= 0, found -1.0"),
+    ({"max_amount": "1"}, "max_amount", "expected a finite number >= 0, found '1'"),
+    ({"region": [[math.nan, 0, 0], [1, 1, 1]]}, "region", "expected finite corners"),
+    ({"region": [[0.1, 0, 0], [0.0, 1, 1]]}, "region", "expected the lower corner first (x0 <= x1)"),
+    ({"region": [[0, 0, 0.2], [1, 1, 0.1]]}, "region", "expected the lower corner first (z0 <= z1)"),
+    ({"region": "box"}, "region", "expected two corners"),
+    ({"ballast": "foam", "foam_density": 1100.0}, "foam_density", "lighter than the water"),
+    ({"foam_density": math.inf}, "foam_density", "lighter than the water"),
+    ({"min_arm": math.nan}, "min_arm", "expected a finite number >= 0, found nan"),
+    ({"ballast": "lead"}, "ballast", "expected one of mass, foam, found 'lead'"),
+])
+def test_every_option_is_checked_even_when_no_ballast_is_needed(vehicle, options, path, words, monkeypatch):
+    """The paper's vehicle rests level (no ballast to compute), yet a bad option is one line naming it, refused
+    before any statics are computed."""
+    import time
+
+    import uvms.model.trim as trim_module
+
+    assert uvms.trim(vehicle).level and uvms.trim(vehicle).ballast is None
+    monkeypatch.setattr(trim_module, "statics", lambda *a, **k: pytest.fail("statics computed before the checks"))
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError) as info:
+        uvms.trim(vehicle, **options)
+    assert time.perf_counter() - tic < 1.0
+    assert info.value.path == path and words in info.value.message and "\n" not in str(info.value)

@@ -67,6 +67,7 @@ def test_states_alone_are_trials(paper):
     (None, {"threads": 0}, "threads"),
     (None, {"threads": 1.5}, "threads"),
     (None, {"progress": "yes"}, "progress"),
+    (None, {"threads": 10**6}, "threads"),
 ])
 def test_bad_batches_are_one_line(paper, trials, options, argument):
     with pytest.raises(UvmsInputError, match=rf"^{argument}: expected"):
@@ -82,3 +83,49 @@ def test_a_python_controller_is_sent_to_simulate(paper):
 
     with pytest.raises(UvmsInputError, match=r"^trials\[0\]: expected bundled controllers"):
         uvms.rollout(paper, [uvms.State.zero(paper)], duration=0.01, controller=Mine())
+
+
+def test_a_million_trials_are_refused_at_once(paper):
+    """``rollout`` of 10^6 trials used to run out of memory building them: more than MAX_TRIALS is one line
+    naming ``trials``, in well under a second (nothing built)."""
+    import time
+
+    from uvms.sim.batch import MAX_TRIALS
+
+    trials = [uvms.State.zero(paper)] * 10**6
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=rf"^trials: expected at most {MAX_TRIALS} trials in one rollout, got "
+                                             r"1000000"):
+        uvms.rollout(paper, trials, duration=1.0)
+    assert time.perf_counter() - tic < 1.0
+
+
+def test_records_beyond_the_memory_limit_are_refused_before_they_are_allocated(paper):
+    """A batch whose records together exceed MAX_RECORDED_VALUES is refused naming ``trials`` after one plan;
+    one run recording every step of a day is refused naming ``record_period`` (simulate and rollout alike)."""
+    import time
+
+    from uvms.sim.plan import MAX_RECORDED_VALUES
+
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=r"^trials: expected at most 2e\+08 recorded values in all, found 5000 "
+                                             r"trials x"):
+        uvms.rollout(paper, [uvms.State.zero(paper)] * 5000, duration=100.0, record_period=1e-3)
+    with pytest.raises(UvmsInputError, match=r"^record_period: expected at most 2e\+08 recorded values"):
+        uvms.simulate(paper, duration=86400.0, step=1e-3, record_period=1e-3)
+    with pytest.raises(UvmsInputError, match=r"^record_period: expected at most 2e\+08 recorded values"):
+        uvms.rollout(paper, [uvms.State.zero(paper)], duration=86400.0, record_period=1e-3)
+    assert time.perf_counter() - tic < 3.0 and MAX_RECORDED_VALUES == 2 * 10**8
+
+
+def test_a_noisy_imu_noise_table_beyond_the_limit_is_refused_at_once(paper):
+    """``smc-ne`` with a noisy IMU draws its noise for every update before the run: 5 x 10^8 updates (a
+    6 x 8 x 5e8 byte table) are refused naming ``duration``, in well under a second once the kernels are loaded."""
+    import time
+
+    controller = make_controller("smc-ne", paper, period=0.001, parameters={"imu_noise": 0.05})
+    assert uvms.simulate(paper, duration=0.01, controller=controller).complete
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=r"^duration: expected at most 3.33e\+07 updates of a noisy IMU"):
+        uvms.simulate(paper, duration=5e5, step=1e-3, controller=controller)
+    assert time.perf_counter() - tic < 1.0

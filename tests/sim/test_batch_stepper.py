@@ -107,3 +107,26 @@ def test_members_with_a_bundled_controller_equal_their_simulate_runs(model):
     assert np.abs(runs[0].states[-1] - runs[1].states[-1]).max() > 1e-3       # two different trajectories
     with pytest.raises(UvmsInputError, match="commands"):
         batch.step(0.01, commands=np.zeros((2, 6)))
+
+
+def test_sizes_and_steps_beyond_the_limits_are_refused_at_once(model):
+    """10^6 members (each its own compiled loop) and a step beyond the step cap: one line naming the argument,
+    refused in well under a second, nothing built or advanced."""
+    import time
+
+    from uvms.sim.batch_stepper import MAX_MEMBERS
+
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=rf"^n: expected at most {MAX_MEMBERS} members, got 1000000"):
+        BatchSimulator(model, 10**6, step=1e-3)
+    with pytest.raises(UvmsInputError, match=r"^threads: expected at most 1024 threads, got 1000000"):
+        BatchSimulator(model, 2, step=1e-3, threads=10**6)
+    assert time.perf_counter() - tic < 1.0
+    batch = BatchSimulator(model, 2, step=1e-3, threads=1)
+    before = batch.x.copy()
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=r"^duration: expected at most 1e\+09 steps"):
+        batch.step(1e12)
+    assert time.perf_counter() - tic < 1.0
+    np.testing.assert_array_equal(batch.x, before)
+    assert (batch.done == 0).all()

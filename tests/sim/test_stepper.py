@@ -82,3 +82,55 @@ def test_reset_to_a_given_state(paper):
 def test_bad_steps_are_one_line(paper, call, argument):
     with pytest.raises(UvmsInputError, match=rf"^{argument}: expected"):
         call(uvms.Simulator(paper))
+
+
+@pytest.mark.parametrize("duration", [1e12, 1e306, 1e6 + 1e-3])
+def test_a_step_beyond_the_step_cap_is_refused_at_once(paper, duration):
+    """``step(1e12)`` used to compute forever: more than MAX_STEPS (10^9, the scenarios' cap) steps since the
+    reset is refused before any step, in well under a second, naming ``duration``; the simulator is untouched."""
+    from uvms.sim.plan import MAX_STEPS
+    import time
+
+    sim = uvms.Simulator(paper, step=1e-3)
+    before = pack(sim.state)
+    tic = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=r"^duration: expected at most 1e\+09 steps of 0.001 s since the last "
+                                             r"reset") as info:
+        sim.step(duration)
+    assert time.perf_counter() - tic < 1.0 and "\n" not in str(info.value)
+    assert sim.steps_done == 0 and np.array_equal(pack(sim.state), before)
+    assert MAX_STEPS == 10**9
+
+
+def test_the_cap_counts_the_steps_since_the_reset(paper, monkeypatch):
+    """After 10 steps only MAX_STEPS - 10 are left; a reset gives them back."""
+    import uvms.sim.stepper as stepper
+
+    monkeypatch.setattr(stepper, "MAX_STEPS", 100)
+    sim = uvms.Simulator(paper, step=1e-3)
+    sim.step(0.01)
+    with pytest.raises(UvmsInputError, match=r"\(0.09 s left\), got 0.091 s"):
+        sim.step(0.091)
+    sim.step(0.09)
+    assert sim.steps_done == 100
+    sim.reset()
+    sim.step(0.1)
+
+
+def test_a_long_step_is_cut_into_bounded_calls_with_the_same_arithmetic(paper, monkeypatch):
+    """One ``step`` of 2.5 chunks makes three compiled calls (Ctrl-C is seen between them) and gives the state
+    bit for bit that one uncut call gives."""
+    import uvms.sim.compiled_loop as compiled_loop
+    import uvms.sim.stepper as stepper
+
+    wrench = np.array([0.0, 0.0, 1.0, 5.0, -2.0, 0.0])
+    whole = uvms.Simulator(paper, step=1e-3)
+    whole.step(0.25, body_wrench=wrench)
+    calls = []
+    advance = compiled_loop.advance_loop
+    monkeypatch.setattr(compiled_loop, "advance_loop", lambda loop, a, b: calls.append(b - a) or advance(loop, a, b))
+    monkeypatch.setattr(stepper, "STEP_CHUNK", 100)
+    cut = uvms.Simulator(paper, step=1e-3)
+    cut.step(0.25, body_wrench=wrench)
+    assert calls == [100, 100, 50]
+    np.testing.assert_array_equal(pack(cut.state), pack(whole.state))

@@ -115,7 +115,8 @@ def run(args: argparse.Namespace) -> int:
         unhealthy = ok[ok["healthy"] == 0]
         if len(unhealthy):                          # complete runs that lost control (uvms.sim.health)
             print(f"uvms: warning: {len(unhealthy)} of {len(ok)} runs are unhealthy (healthy=0 in runs.csv: "
-                  f"tumbled or thrusters saturated), e.g. {unhealthy.iloc[0]['run_id']}", file=sys.stderr)
+                  f"tumbled, saturated, off station or short of thrust), e.g. {unhealthy.iloc[0]['run_id']}",
+                  file=sys.stderr)
     for metric in sweep.metrics:
         if len(ok) and ok[metric].isna().all():
             print(f"uvms: warning: metric {metric} is empty in every run: these runs record no such series",

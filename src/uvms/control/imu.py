@@ -63,6 +63,14 @@ def imu_data(parameters: ImuParameters, period: float, n_samples: int) -> ImuDat
     ``np.random.default_rng(seed).normal(0, noise, 6)``, in the order the samples take them."""
     par = parameters
     noisy = par.noise > 0
+    from uvms.sim.plan import MAX_RECORDED_VALUES
+
+    if noisy and 6 * int(n_samples) > MAX_RECORDED_VALUES:      # the table is drawn before the run: bound it
+        from uvms.errors import UvmsInputError
+
+        raise UvmsInputError(f"expected at most {MAX_RECORDED_VALUES // 6:.3g} updates of a noisy IMU (its noise is "
+                             f"drawn before the run), found {int(n_samples):.3g}: a shorter run or a longer "
+                             f"controller period", path="duration")
     noise = (np.random.default_rng(par.seed).normal(0.0, par.noise, (max(int(n_samples), 1), 6)) if noisy
              else np.zeros((1, 6)))
     return ImuData(mode=_MODES[par.mode], delay=int(par.delay), period=float(period),

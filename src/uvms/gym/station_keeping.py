@@ -39,7 +39,9 @@ class StationKeepingEnv(gymnasium.Env):
     Action: ``"thrusters"``: ``Box(T_min, T_max, (m,), float64)`` thrust set points [N]; ``"commands"``: the
     thrusters' own commands (e.g. PWM [us]) between the commands of the thrust limits;
     ``"wrench"``: ``Box(-limit, limit, (6,), float64)`` body wrench ``[K M N X Y Z]`` [N m, N]. Actions outside
-    the box are clipped.
+    the box are clipped; an action of another shape, not numbers, or with a NaN or infinite entry is one
+    :class:`~uvms.errors.UvmsInputError` line naming ``action`` (:meth:`StationKeepingTask.checked_actions
+    <uvms.gym.task.StationKeepingTask.checked_actions>`).
 
     Attributes: ``task`` (:class:`~uvms.gym.task.StationKeepingTask`), ``episode`` (the current
     :class:`~uvms.gym.task.Episode`), ``simulator`` (the episode's :class:`~uvms.sim.stepper.Simulator`).
@@ -82,7 +84,7 @@ class StationKeepingEnv(gymnasium.Env):
 
         if self.simulator is None:
             raise gymnasium.error.ResetNeeded("call reset() before step()")
-        command, effort = self.task.commands(np.asarray(action, dtype=float).reshape(1, -1))
+        command, effort = self.task.commands(self.task.checked_actions(action))
         try:
             self.simulator.step(self.task.dt, command=command[0])
         except SimulationDiverged:

@@ -61,6 +61,9 @@ ACTION_MODES = ("thrusters", "commands", "wrench")
 ARM_TRACKER_PERIOD = 0.01
 """Update period [s] of the arm's computed-torque tracker (its torques are held in between)."""
 
+MAX_ARM_KNOTS = 100_000
+"""Most knots of an episode's arm motion (``duration / arm_period + 1``): a shorter ``arm_period`` is refused."""
+
 
 @dataclass(frozen=True)
 class Weights:
@@ -189,7 +192,19 @@ class StationKeepingTask:
         self.substeps = int(round(self.dt / self.h))
         if self.substeps < 1 or abs(self.substeps * self.h - self.dt) > 1e-9 * self.dt:
             raise checks.fail("dt", f"expected a whole number of integration steps of {self.h:g} s, got {c.dt!r}")
+        from uvms.sim.plan import MAX_STEPS
+        from uvms.sim.stepper import HORIZON
+
+        if HORIZON / self.h > MAX_STEPS:           # the episode's simulator lays its events out over HORIZON
+            raise checks.fail("step", f"expected at least {HORIZON / MAX_STEPS:g} s (at most {MAX_STEPS:.0e} steps in "
+                                      f"the simulator's horizon of {HORIZON:g} s), got {c.step!r}")
         duration = checks.number(c.duration, "duration", positive=True, unit="s")
+        if duration > HORIZON:
+            raise checks.fail("duration", f"expected an episode of at most {HORIZON:g} s (the step API's horizon, "
+                                          f"uvms.sim.stepper.HORIZON), got {duration:g} s")
+        if self.dt > duration:
+            raise checks.fail("dt", f"expected an environment step of at most the episode's duration ({duration:g} s), "
+                                    f"got {self.dt:g} s")
         self.max_steps = max(1, int(round(duration / self.dt)))
         for name in ("initial_position", "initial_attitude", "current"):
             checks.number(getattr(c, name), name, nonnegative=True)
@@ -202,7 +217,11 @@ class StationKeepingTask:
         if c.arm not in ARM_MODES:
             raise checks.fail("arm", f"expected one of {', '.join(ARM_MODES)}, got {checks.show(c.arm)}")
         checks.number(c.arm_amplitude, "arm_amplitude", nonnegative=True, unit="rad")
-        checks.number(c.arm_period, "arm_period", positive=True, unit="s")
+        period = checks.number(c.arm_period, "arm_period", positive=True, unit="s")
+        if self.max_steps * self.dt / period + 1 > MAX_ARM_KNOTS:
+            raise checks.fail("arm_period", f"expected at most {MAX_ARM_KNOTS} arm knots in the episode "
+                                            f"(arm_period >= {self.max_steps * self.dt / (MAX_ARM_KNOTS - 1):.3g} s), "
+                                            f"got {period:g} s")
         torque = checks.vector(np.broadcast_to(c.arm_torque, (n,)) if np.ndim(c.arm_torque) == 0 else c.arm_torque,
                                n, "arm_torque", " [N m] (one, or one per joint)")
         if np.any(torque < 0):
@@ -315,6 +334,18 @@ class StationKeepingTask:
                                  period=ARM_TRACKER_PERIOD)
 
     # ----------------------------------------------------------------------------- actions, observations
+
+    def checked_actions(self, actions, rows: int | None = None) -> np.ndarray:
+        """(N, a) float64 actions: one environment's action of the action space's shape ``(a,)`` (``rows``
+        ``None``), or ``rows`` environments' ``(rows, a)``. An action of another shape, not numbers (a string,
+        ``None``, booleans) or with a NaN or infinite entry is one :class:`~uvms.errors.UvmsInputError` line (a
+        ``ValueError``) naming ``action`` (``actions``); finite values outside the box are clipped
+        (:meth:`commands`)."""
+        a = self.low.size
+        what = f" (the action space's {self.action} bounds: shape ({a},))"
+        if rows is None:
+            return checks.vector(actions, a, "action", what).reshape(1, a)
+        return checks.matrix(actions, rows, a, "actions", f" (one action per environment: shape ({rows}, {a}))")
 
     def commands(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(commands (N, c), effort (N,))`` of (N, a) actions clipped to their bounds: thrust set points

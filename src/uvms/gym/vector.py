@@ -29,13 +29,16 @@ class StationKeepingVectorEnv(VectorEnv):
 
     def __init__(self, num_envs: int = 1, render_mode: str | None = None, **options) -> None:
         from uvms import checks
-        from uvms.sim.batch_stepper import BatchSimulator, COMMAND
+        from uvms.sim.batch_stepper import COMMAND, MAX_MEMBERS, BatchSimulator
 
         if render_mode is not None:
             raise ValueError(f"uvms/StationKeeping-v0 has no render modes, got render_mode={render_mode!r}")
         self.render_mode = None
         options.pop("max_episode_steps", None)          # episodes end at their own duration
         self.num_envs = checks.count(num_envs, "num_envs", minimum=1)
+        if self.num_envs > MAX_MEMBERS:
+            raise checks.fail("num_envs", f"expected at most {MAX_MEMBERS} environments (the batch simulator's "
+                                          f"limit), got {self.num_envs}")
         self.task = task = StationKeepingTask(config_of(options))
         self.single_observation_space, self.single_action_space = task.spaces()
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
@@ -76,12 +79,15 @@ class StationKeepingVectorEnv(VectorEnv):
 
     def step(self, actions):
         """Hold each row of ``actions`` (N, a) for ``dt`` seconds; returns ``(obs, rewards, terminations,
-        truncations, infos)``, each with one row per environment."""
+        truncations, infos)``, each with one row per environment. ``actions`` of another shape than
+        ``(num_envs, a)``, not numbers or with a NaN or infinite entry: one :class:`~uvms.errors.UvmsInputError`
+        line naming ``actions`` (no environment is stepped or reset)."""
         task = self.task
+        actions = task.checked_actions(actions, self.num_envs)     # a bad action changes nothing
         ended = self._ended.copy()
         for k in np.flatnonzero(ended):
             self._new_episode(k)
-        commands, effort = task.commands(np.asarray(actions, dtype=np.float64).reshape(self.num_envs, -1))
+        commands, effort = task.commands(actions)
         active = ~ended
         self.batch.advance(task.substeps, commands, self._command, active)
         self._steps[active] += 1

@@ -242,16 +242,55 @@ def default_region(model) -> np.ndarray:
 
 
 def _region(model, region) -> np.ndarray:
+    """(2, 3) the box ``region`` (default :func:`default_region`): two finite corners, the lower first."""
     if region is None:
         return default_region(model)
     try:
-        box = np.array(region, dtype=float).reshape(2, 3)
+        raw = np.asarray(region)
+        if raw.dtype.kind not in "iuf":         # strings, booleans, None
+            raise TypeError
+        box = np.array(raw, dtype=float).reshape(2, 3)
     except (TypeError, ValueError):
         raise UvmsInputError(f"expected two corners [[x0, y0, z0], [x1, y1, z1]] [m], found {show(region)}",
                              path="region") from None
     if not np.all(np.isfinite(box)):
         raise UvmsInputError(f"expected finite corners [m], found {show(box.tolist())}", path="region")
-    return np.array([np.minimum(box[0], box[1]), np.maximum(box[0], box[1])])
+    if np.any(box[0] > box[1]):
+        axis = "xyz"[int(np.flatnonzero(box[0] > box[1])[0])]
+        raise UvmsInputError(f"expected the lower corner first ({axis}0 <= {axis}1) [m], found "
+                             f"{show(box.tolist())}", path="region")
+    return box
+
+
+def _amount(value, name: str) -> float:
+    """A finite number >= 0 (a number, not a string or a boolean), else one line naming ``name``."""
+    from numbers import Real
+
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (Real, np.integer, np.floating)) or \
+            not (math.isfinite(float(value)) and float(value) >= 0):
+        raise UvmsInputError(f"expected a finite number >= 0, found {show(value)}", path=name)
+    return float(value)
+
+
+def check_ballast_options(model, kind: str = "mass", region=None, max_amount: float | None = None,
+                          foam_density: float = 0.0, min_arm: float = MIN_ARM) -> np.ndarray:
+    """Every option of :func:`level_ballast` checked (whether or not a ballast turns out to be needed): the kind,
+    the region (two finite corners, the lower first), ``max_amount`` (``None`` or finite >= 0), the foam density
+    (finite, in ``[0, rho)``: lighter than the water) and ``min_arm`` (finite >= 0); one
+    :class:`~uvms.errors.UvmsInputError` line naming the option. Returns the (2, 3) region."""
+    if kind not in BALLAST_KINDS:
+        raise UvmsInputError(f"expected one of {', '.join(BALLAST_KINDS)}, found {show(kind)}", path="ballast")
+    box = _region(model, region)
+    rho = float(model.density)
+    density = foam_density
+    if isinstance(density, (bool, np.bool_)) or not isinstance(density, (int, float, np.integer, np.floating)) or \
+            not 0.0 <= float(density) < rho:
+        raise UvmsInputError(f"expected a foam density in [0, {rho:.6g}) kg/m^3 (lighter than the water), found "
+                             f"{show(foam_density)}", path="foam_density")
+    _amount(min_arm, "min_arm")
+    if max_amount is not None:
+        _amount(max_amount, "max_amount")
+    return box
 
 
 def level_ballast(model, s: Statics, *, kind: str = "mass", region=None, max_amount: float | None = None,
@@ -273,17 +312,8 @@ def level_ballast(model, s: Statics, *, kind: str = "mass", region=None, max_amo
     """
     from scipy.optimize import linprog
 
-    if kind not in BALLAST_KINDS:
-        raise UvmsInputError(f"expected one of {', '.join(BALLAST_KINDS)}, found {show(kind)}", path="ballast")
-    box = _region(model, region)
+    box = check_ballast_options(model, kind, region, max_amount, foam_density, min_arm)
     rho = float(model.density)
-    if kind == "foam" and not 0.0 <= foam_density < rho:
-        raise UvmsInputError(f"expected a foam density in [0, {rho:.6g}) kg/m^3 (lighter than the water), found "
-                             f"{foam_density!r}", path="foam_density")
-    if not (math.isfinite(min_arm) and min_arm >= 0):
-        raise UvmsInputError(f"expected a finite number >= 0 [m], found {min_arm!r}", path="min_arm")
-    if max_amount is not None and not (math.isfinite(max_amount) and max_amount >= 0):
-        raise UvmsInputError(f"expected a finite number >= 0, found {max_amount!r}", path="max_amount")
     if s.gravity == 0.0:
         raise UvmsInputError("no gravity: there is no attitude to level", path="ballast")
     mu, beta = (1.0, 0.0) if kind == "mass" else (float(foam_density), rho)
@@ -479,12 +509,15 @@ def trim(model, q=None, *, ballast: str = "mass", region=None, max_amount: float
             paper's).
 
     Raises:
-        UvmsInputError: bad ``q``, ``region``, ``ballast`` or limits, or no ballast levels it (one line).
+        UvmsInputError: bad ``q``, ``region``, ``ballast`` or limits (every option is checked before anything is
+            computed, also when the system rests level and needs no ballast: :func:`check_ballast_options`), or
+            no ballast levels it (one line).
     """
     from uvms import checks
 
     checks.model(model)
     q = joint_values(model, q)
+    check_ballast_options(model, ballast, region, max_amount, foam_density, min_arm)   # all of them, up front
     s = statics(model, q)
     roll, pitch, note = rest_attitude(model, s)
     level = roll is not None and abs(roll) <= LEVEL_TOLERANCE and abs(pitch) <= LEVEL_TOLERANCE

@@ -20,9 +20,18 @@ import numpy as np
 
 from uvms import checks
 from uvms.sim.options import Inputs, grouped
-from uvms.sim.plan import RunPlan, Timing
+from uvms.sim.plan import MAX_RECORDED_VALUES, RunPlan, Timing
 from uvms.sim.result import Result
 from uvms.state import State
+
+MAX_THREADS = 1024
+"""Most threads of one :func:`rollout` or :class:`~uvms.sim.batch_stepper.BatchSimulator` (each an operating
+system thread with its own stack)."""
+
+MAX_TRIALS = 10_000
+"""Most trials of one :func:`rollout` (each holds its own compiled plant, controller and record); more are
+refused before anything is built. Their records together are bounded too
+(:data:`~uvms.sim.plan.MAX_RECORDED_VALUES`)."""
 
 
 @dataclass(frozen=True)
@@ -149,13 +158,26 @@ def rollout(model, trials: Sequence[Trial | State], *, duration: float, step: fl
     checks.model(model)
     timing = Timing.of(duration, step)
     threads = checks.count(options.pop("threads", os.cpu_count() or 1), "threads", minimum=1)
+    if threads > MAX_THREADS:
+        raise checks.fail("threads", f"expected at most {MAX_THREADS} threads, got {threads}")
     progress: Callable[[int, int], None] | None = options.pop("progress", None)
     checks.callable_or_none(progress, "progress", "progress(done, total)")
     if isinstance(trials, (State, Trial)) or not isinstance(trials, Sequence) or not len(trials):
         raise checks.fail("trials", f"expected a non-empty list of States or Trials, got {checks.show(trials)}")
+    if len(trials) > MAX_TRIALS:
+        raise checks.fail("trials", f"expected at most {MAX_TRIALS} trials in one rollout, got {len(trials)}; run "
+                                    f"them in batches")
+    trials = list(trials)
     shared = (controller, actuation, *grouped(inputs, "rk4", None, options))
     plans = [_trial_plan(model, Trial(initial_state=t) if isinstance(t, State) else t, shared, timing)
-             for t in trials]
+             for t in trials[:1]]
+    rows, size = plans[0].samples.states.shape
+    if len(trials) * rows * size > MAX_RECORDED_VALUES:
+        raise checks.fail("trials", f"expected at most {MAX_RECORDED_VALUES:.0e} recorded values in all, found "
+                                    f"{len(trials)} trials x {rows} rows x {size} state entries: fewer trials, or "
+                                    f"record less often (a larger record_period)")
+    plans += [_trial_plan(model, Trial(initial_state=t) if isinstance(t, State) else t, shared, timing)
+              for t in trials[1:]]
     for k, plan in enumerate(plans):
         if not compilable(plan):
             raise checks.fail(f"trials[{k}]", "expected bundled controllers and arm inputs (compiled); run a Python "

@@ -27,7 +27,12 @@ from numba.typed import List
 from uvms import checks
 from uvms.sim.compiled_loop import advance_loop
 from uvms.sim.options import Inputs
+from uvms.sim.stepper import STEP_CHUNK, steps_of
 from uvms.state import State
+
+MAX_MEMBERS = 4096
+"""Most members of one :class:`BatchSimulator` (each holds its own compiled plant and loop); more are refused
+before any is built."""
 
 NONE, COMMAND, BODY_WRENCH = 0, 1, 2
 """What :func:`advance_members` writes from its ``inputs`` matrix into each member's held inputs."""
@@ -86,6 +91,13 @@ class BatchSimulator:
         checks.model(model)
         self.model = model
         self.n = checks.count(n, "n", minimum=1)
+        if self.n > MAX_MEMBERS:
+            raise checks.fail("n", f"expected at most {MAX_MEMBERS} members, got {self.n}")
+        if threads is not None:
+            from uvms.sim.batch import MAX_THREADS
+
+            if checks.count(threads, "threads", minimum=1) > MAX_THREADS:
+                raise checks.fail("threads", f"expected at most {MAX_THREADS} threads, got {threads}")
         self.h = checks.number(step, "step", positive=True, unit="s")
         self._shared = (controller, actuation)
         per_member = self._per_member(inputs, "inputs", Inputs)
@@ -146,9 +158,7 @@ class BatchSimulator:
         given inputs held: ``commands`` (n, c) the actuator commands (the body wrench [K M N X Y Z] without
         thrusters; thruster commands with them; only without a controller), or ``body_wrenches`` (n, 6) an
         external body wrench [N m, N] (body axes). Returns :attr:`x` (n, size), the state vectors."""
-        steps = int(round(checks.number(duration, "duration", positive=True, unit="s") / self.h))
-        if steps < 1:
-            raise checks.fail("duration", f"expected at least one step of {self.h:g} s, got {duration!r}")
+        steps = steps_of(duration, self.h, int(self.done.max(initial=0)))
         kind, values = NONE, np.zeros((self.n, 0))
         if commands is not None and body_wrenches is not None:
             raise checks.fail("commands", "give commands or body_wrenches, not both")
@@ -161,7 +171,11 @@ class BatchSimulator:
                                               f"{values.shape[1]}")
         elif body_wrenches is not None:
             kind, values = BODY_WRENCH, checks.matrix(body_wrenches, self.n, 6, "body_wrenches", " [moment; force]")
-        return self.advance(steps, np.ascontiguousarray(values, dtype=np.float64), kind)
+        values = np.ascontiguousarray(values, dtype=np.float64)
+        while steps > STEP_CHUNK:                 # bounded calls (the same step grid): Ctrl-C is seen between them
+            self.advance(STEP_CHUNK, values, kind)
+            steps -= STEP_CHUNK
+        return self.advance(steps, values, kind)
 
     def advance(self, steps: int, values: np.ndarray, kind: int, active: np.ndarray | None = None) -> np.ndarray:
         """:meth:`step` without the checks: ``steps`` steps, ``values`` a C-contiguous float64 (n, c) matrix of

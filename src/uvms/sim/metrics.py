@@ -21,6 +21,8 @@ Named metrics (errors relative to the initial pose, the paper's Figures 5-6; att
 | ``healthy`` | 1 for a healthy run, 0 for an unhealthy one (:mod:`uvms.sim.health`) |
 | ``max_saturated_fraction`` | the largest fraction of time any thruster spends at a thrust limit [-] (0 without thrusters) |
 | ``peak_unachieved_force_N``, ``peak_unachieved_moment_Nm`` | ``max_t`` of the norm of the force / moment the thrusters could not produce |
+| ``peak_station_departure_m`` | how far the vehicle left its station [m] (:mod:`uvms.sim.health`; NaN without a controller holding a position) |
+| ``unproduced_force_share``, ``unproduced_moment_share`` | the share of the commanded force / moment not produced [-] (:mod:`uvms.sim.health`; NaN without thrusters) |
 
 ``<statistic>_<series>`` applies a statistic (``max_abs``, ``rms``, ``mean``, ``final``, ``sign_changes``) to
 a series: a column of :meth:`Result.columns <uvms.sim.result.Result.columns>` (``x_m``, ``yaw_rad``, ``u_m_s``,
@@ -79,7 +81,8 @@ NAMED: tuple[str, ...] = ("peak_body_error_xy_m", "final_body_error_xy_m", "rms_
                           "peak_abs_roll_rad", "peak_abs_pitch_rad", "peak_abs_yaw_rad", "peak_yaw_error_rad",
                           "peak_displacement_m", "peak_world_error_xy_m", "peak_depth_error_m",
                           "peak_roll_error_rad", "peak_pitch_error_rad", "simulated_time_s",
-                          "healthy", "max_saturated_fraction", "peak_unachieved_force_N", "peak_unachieved_moment_Nm")
+                          "healthy", "max_saturated_fraction", "peak_unachieved_force_N", "peak_unachieved_moment_Nm",
+                          "peak_station_departure_m", "unproduced_force_share", "unproduced_moment_share")
 
 HEALTH_METRICS: tuple[str, ...] = ("healthy", "max_abs_roll_rad", "max_abs_pitch_rad", "max_saturated_fraction",
                                    "peak_unachieved_force_N", "peak_unachieved_moment_Nm")
@@ -87,6 +90,10 @@ HEALTH_METRICS: tuple[str, ...] = ("healthy", "max_abs_roll_rad", "max_abs_pitch
 
 _POSITION_COMPONENT = {"peak_abs_x_m": 0, "peak_abs_y_m": 1, "peak_abs_z_m": 2, "peak_depth_error_m": 2}
 """Metrics ``max_t |p_i - p0_i|`` and their component ``i`` (z is down: the depth)."""
+
+_HEALTH_OPTIONAL = {"peak_station_departure_m": "station_departure", "unproduced_force_share": "unproduced_share_force",
+                    "unproduced_moment_share": "unproduced_share_moment"}
+"""Health metrics a run may not have (:class:`uvms.sim.health.RunHealth` field ``None``: NaN)."""
 
 _SERIES = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 
@@ -234,6 +241,9 @@ class Series:
             return self.health().peak_unachieved_force
         if name == "peak_unachieved_moment_Nm":
             return self.health().peak_unachieved_moment
+        if name in _HEALTH_OPTIONAL:
+            value = getattr(self.health(), _HEALTH_OPTIONAL[name])
+            return float("nan") if value is None else float(value)
         for prefix, statistic in STATISTICS.items():
             if name.startswith(prefix + "_"):
                 return statistic(self.get(name[len(prefix) + 1:]))

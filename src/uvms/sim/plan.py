@@ -24,6 +24,18 @@ MAX_STEPS = 10**9
 MAX_SAMPLES = 20000
 """Default largest number of recorded samples of a run (``Recording.period`` unset)."""
 
+MAX_RECORDED_VALUES = 2 * 10**8
+"""Largest number of recorded state values (rows times state entries, 1.6 GB of float64) of one run, and of one
+:func:`uvms.rollout` batch in all: a larger record is refused before anything is allocated."""
+
+
+def check_record_size(rows: int, size: int, name: str = "record_period", what: str = "") -> None:
+    """:class:`~uvms.errors.UvmsInputError` naming ``name`` when ``rows`` recorded states of ``size`` entries
+    exceed :data:`MAX_RECORDED_VALUES` (``what``: how the rows come about, for the message)."""
+    if rows * size > MAX_RECORDED_VALUES:
+        raise checks.fail(name, f"expected at most {MAX_RECORDED_VALUES:.0e} recorded values (rows x {size} state "
+                                f"entries), found {rows:.3g} rows{what}: record less often (a larger record_period)")
+
 
 def check_steps(duration: float, step: float) -> int:
     """The number of steps of a run, ``round(duration / step)``; :class:`~uvms.errors.UvmsInputError` (a
@@ -188,14 +200,14 @@ class RunPlan:
             state = state.replace(actuator=np.zeros(n_act))
         if inputs.fixed_base:
             state = state.replace(nu=np.zeros(6))
+        every = record_every(timing, recording)
+        check_record_size(timing.n_total // every + 2, 13 + 2 * model.n_joints + n_act)
         plant, _ = build_plant(model, thrusters=actuation.thrusters,
                                fluid=current_table(model, inputs.current, timing), fixed_base=inputs.fixed_base,
                                bounds=recording.bounds)
         held = held_inputs(model.n_joints, len(actuation.thrusters))
         held.body_wrench[:] = inputs.body_wrench
         held.ee_wrench[:] = inputs.ee_wrench
-        every = timing.steps_of(recording.period) if recording.period is not None else \
-            max(1, int(np.ceil(timing.n_total / MAX_SAMPLES)))
         x = pack(state).astype(float)
         control_every = 0
         if controller is not None:
@@ -220,6 +232,13 @@ class RunPlan:
     def report_progress(self, done: int) -> None:
         if self.recording.progress is not None:
             self.recording.progress(done * self.timing.h, self.timing.duration)
+
+
+def record_every(timing: Timing, recording: Recording) -> int:
+    """Steps between two recorded rows: the recording period's, else enough for at most :data:`MAX_SAMPLES` rows."""
+    if recording.period is not None:
+        return timing.steps_of(recording.period)
+    return max(1, int(np.ceil(timing.n_total / MAX_SAMPLES)))
 
 
 def events(n_total: int, periods: tuple[int, ...], breakpoints: list[int]):

@@ -9,7 +9,7 @@ import time as _time
 import numpy as np
 
 from uvms.kinematics import end_effector_path
-from uvms.sim.health import actuation_metadata
+from uvms.sim.health import actuation_metadata, set_point_metadata
 from uvms.sim.result import Result
 
 
@@ -75,7 +75,7 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
     meta = {"integrator": plan.integrator.name, "step_s": timing.h, "duration_s": timing.duration,
             "fixed_base": plan.fixed_base,
             "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name, **versions(),
-            **actuation_metadata(plan), **(plan.recording.metadata or {})}
+            **actuation_metadata(plan), **set_point_metadata(plan), **(plan.recording.metadata or {})}
     report_joint_limits(plan.model, out_t, out_x, out_tau, meta)
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
                   signals=log.held(which), complete=complete,

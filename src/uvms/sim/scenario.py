@@ -300,12 +300,16 @@ class OutputsSpec(Spec):
 
 
 class HealthSpec(Spec):
-    """When the run counts as unhealthy (:mod:`uvms.sim.health`): an attitude past ``attitude_limit``, or a
-    thruster saturated more than ``saturation_limit`` of the time."""
+    """When the run counts as unhealthy (:mod:`uvms.sim.health`): an attitude past ``attitude_limit``, a
+    thruster saturated more than ``saturation_limit`` of the time, the vehicle farther than ``station_limit``
+    off its station, or more than ``unproduced_limit`` of the commanded force or moment not produced."""
 
     attitude_limit: Positive = HealthLimits.attitude_limit            # largest |roll| or |pitch| [rad] (60 deg)
     saturation_limit: Annotated[float, BeforeValidator(finite_number), Field(ge=0, le=1)] = \
         HealthLimits.saturation_limit                                   # fraction of the run [-]
+    station_limit: Positive = HealthLimits.station_limit              # distance off the set point [m]
+    unproduced_limit: Annotated[float, BeforeValidator(finite_number), Field(ge=0, le=1)] = \
+        HealthLimits.unproduced_limit                                   # share of the commanded force [-]
 
 
 class ScenarioSpec(Spec):
@@ -443,8 +447,7 @@ class Scenario:
         metadata = {"scenario": self.name, "scenario_source": self.source, "scenario_sha256": self.sha256,
                     "model_source": self.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
                     "controller": spec.controller.name if spec.controller else None,
-                    "health_limits": {"attitude_limit": spec.health.attitude_limit,
-                                      "saturation_limit": spec.health.saturation_limit},
+                    "health_limits": spec.health.model_dump(),
                     **actuation_metadata(actuation)}
         return dict(
             model=self.model, initial_state=self.initial_state(), duration=spec.duration, step=spec.step,

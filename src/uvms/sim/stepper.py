@@ -19,6 +19,10 @@ from uvms.sim.plan import MAX_STEPS, RunPlan, Timing
 from uvms.state import State
 
 
+STEP_CHUNK = 16384
+"""Most steps one compiled call of :meth:`Simulator.step` advances: a longer call is cut into calls of this many
+steps (the same step grid, so the same arithmetic), so that Ctrl-C is seen within a fraction of a second."""
+
 HORIZON = 3600.0
 """Simulated seconds between two resets that a simulator is laid out for: a torque schedule's breakpoints
 beyond it are ignored, and a controller with a pre-drawn noise table (``smc-ne`` with a noisy IMU) stops with
@@ -119,9 +123,7 @@ class Simulator:
         from uvms.sim.compiled_loop import advance_loop
 
         plan = self._plan
-        steps = int(round(checks.number(duration, "duration", positive=True, unit="s") / self._timing.h))
-        if steps < 1:
-            raise checks.fail("duration", f"expected at least one step of {self._timing.h:g} s, got {duration!r}")
+        steps = steps_of(duration, self._timing.h, self._done)
         if joint_torques is not None:
             if not self._own_torques:
                 raise checks.fail("joint_torques", "the simulator has its own arm input (inputs.joint_torques)")
@@ -136,8 +138,9 @@ class Simulator:
             if plan.controller is not None:
                 raise checks.fail("command", "the simulator has a controller: it sets the commands")
             plan.held.command[:] = checks.vector(command, plan.held.command.size, "command", "")
-        done, code = advance_loop(self._loop, self._done, self._done + steps)
-        self._done = done
+        stop, code = self._done + steps, 0
+        while self._done < stop and code == 0:       # bounded calls: Ctrl-C is seen between them
+            self._done, code = advance_loop(self._loop, self._done, min(stop, self._done + STEP_CHUNK))
         if code != 0:
             from uvms.errors import SimulationDiverged
 
@@ -145,3 +148,19 @@ class Simulator:
             raise SimulationDiverged(self.time, f"{self._plan.layout.quantity_name(abs(code) - 1)} {what}",
                                      f"try a smaller step (now {self._timing.h:g} s)")
         return self.state
+
+
+def steps_of(duration, h: float, done: int = 0) -> int:
+    """The whole number of steps of ``h`` seconds in a :meth:`Simulator.step` call of ``duration`` seconds, after
+    ``done`` steps since the last reset: :class:`~uvms.errors.UvmsInputError` naming ``duration`` (before any
+    work) unless it is at least one step and the steps since the reset stay within
+    :data:`~uvms.sim.plan.MAX_STEPS` (10^9, the scenarios' limit)."""
+    seconds = checks.number(duration, "duration", positive=True, unit="s")
+    ratio = seconds / h                          # a float: 1e300 s is refused, not rounded to a huge integer
+    steps = round(ratio) if ratio <= 2.0 * MAX_STEPS else MAX_STEPS + 1
+    if steps > MAX_STEPS - done:
+        raise checks.fail("duration", f"expected at most {MAX_STEPS:.0e} steps of {h:g} s since the last reset "
+                                      f"({(MAX_STEPS - done) * h:.6g} s left), got {seconds:.6g} s")
+    if steps < 1:
+        raise checks.fail("duration", f"expected at least one step of {h:g} s, got {duration!r}")
+    return int(steps)
