@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from uvms.errors import UvmsInputError
+from uvms.sim.result import check_times
 from uvms.view import DEFAULT_FPS, DEFAULT_MAX_FRAMES
 from uvms.view.scene import Scene, Snapshot, equal_ranges, pose_scene, scene_from_model
 
@@ -65,8 +66,10 @@ def frame_samples(time: np.ndarray, *, fps: float, speed: float, max_frames: int
         raise UvmsInputError(f"expected a positive playback speed, found {speed}", None, "--speed")
     if max_frames < 1:
         raise UvmsInputError(f"expected at least 1 frame, found {max_frames}", None, "--max-frames")
+    check_times(time)
     wall = float(time[-1] - time[0]) / speed if len(time) else 0.0
-    wanted_count = int(math.floor(wall * fps + 1e-9)) + 1
+    frames = wall * fps + 1e-9          # may overflow to inf for a huge span: compared before any int()
+    wanted_count = int(math.floor(frames)) + 1 if frames < max_frames else max_frames + 1
     count = min(wanted_count, max_frames, len(time))
     if count <= 1:
         return np.zeros(1, dtype=int), fps
@@ -183,14 +186,43 @@ def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -
 
 
 def model_of_run(directory):
-    """The model and thruster layout of a saved run, from its ``scenario.yaml`` (written by ``uvms run``)."""
+    """The model and thruster layout of a saved run, from its ``scenario.yaml`` (written by ``uvms run``).
+
+    The copy is the user's scenario verbatim, so a relative ``model:`` path is relative to the folder the
+    scenario file was in when it ran (``metadata.scenario_folder`` of ``result.json``; older runs: the folder
+    of ``metadata.scenario_source``), not to the run folder; the run folder is tried last (a run moved together
+    with its model file)."""
+    from uvms.safe_yaml import read_yaml_mapping
+    from uvms.sim.result import load_result_summary
     from uvms.sim.run import Actuation
-    from uvms.sim.scenario import load_scenario
+    from uvms.sim.scenario import scenario_from_data
 
     directory = Path(directory)
     path = directory / "scenario.yaml"
     if not path.is_file():
         raise UvmsInputError("no scenario.yaml here, so the model of the run is unknown (a folder written by "
                              "'uvms run SCENARIO -o DIR' has one)", str(directory))
-    scenario = load_scenario(path)
+    data = read_yaml_mapping(path, "scenario fields")
+    text = path.read_text(encoding="utf-8")
+    metadata = load_result_summary(directory).get("metadata") or {}
+    scenario = scenario_from_data(data, source=str(path), base_dir=_model_folder(data.get("model"), directory,
+                                                                                   metadata),
+                                  text=text, default_name=directory.name)
     return scenario.model, Actuation.named(scenario.spec.actuators, scenario.model).thrusters
+
+
+def _model_folder(model, directory: Path, metadata: dict) -> Path:
+    """The folder a run's relative ``model:`` path resolves against (see :func:`model_of_run`)."""
+    if not isinstance(model, str) or not model or "\0" in model or Path(model).expanduser().is_absolute():
+        return directory
+    candidates = [metadata.get("scenario_folder"), metadata.get("scenario_source")]
+    folders = [Path(candidates[0])] if isinstance(candidates[0], str) and "\0" not in candidates[0] else []
+    if isinstance(candidates[1], str) and "\0" not in candidates[1]:
+        folders.append(Path(candidates[1]).parent)
+    for folder in folders:
+        try:
+            if (folder / model).exists():
+                return folder
+        except OSError:
+            continue
+    return directory
