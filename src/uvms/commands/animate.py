@@ -5,6 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+VIDEO_SUFFIXES = (".mp4", ".gif")
+"""Video outputs (:data:`uvms.view.animate.VIDEO_SUFFIXES`, repeated here so that checking the output's name
+imports nothing heavy)."""
+
 NAME = "animate"
 HELP = ("replay a saved run (a folder written by 'uvms run') in 3-D: an offline .html page with play/pause and a "
         "time slider (default RUN/animation.html), or an .mp4/.gif video")
@@ -38,8 +42,7 @@ def run(args: argparse.Namespace) -> int:
 
     from uvms.errors import UvmsInputError
     from uvms.output import check_file_output, record_written
-    from uvms.sim.result import Result
-    from uvms.view.animate import VIDEO_SUFFIXES, model_of_run, replay, write_replay_html, write_video
+    from uvms.sim.result import check_result_files
 
     directory = Path(args.directory)
     if args.output == "":
@@ -48,6 +51,10 @@ def run(args: argparse.Namespace) -> int:
     suffix = output.suffix.lower()
     if suffix not in (".html", ".htm") + VIDEO_SUFFIXES:
         raise UvmsInputError("expected a .html, .mp4 or .gif file name", str(output), "--output")
+    check_result_files(directory)          # sizes and nesting first: refused before the heavy imports
+    from uvms.sim.result import Result
+    from uvms.view.animate import model_of_run, replay, write_replay_html, write_video
+
     result = Result.load(directory)
     model, thrusters = model_of_run(directory)
     record = check_file_output(output, "--output", named=args.output is not None, force=args.force)

@@ -24,11 +24,12 @@ def run(args: argparse.Namespace) -> int:
     from uvms.errors import UvmsInputError
     from uvms.output import check_file_output, record_written
     from uvms.plots import check_drawable, check_figure_path, save_figure, timeseries_figure
-    from uvms.sim.result import load_result_summary, load_result_table
+    from uvms.sim.result import check_result_files, load_result_summary, load_result_table
 
     if args.output == "":
         raise UvmsInputError("expected a file name, found an empty string", None, "--output")
     directory = Path(args.directory)
+    check_result_files(directory)          # sizes and nesting first: refused before pandas is imported
     table = load_result_table(directory)
     summary = load_result_summary(directory)
     check_drawable(table, str(directory / "result.csv"))

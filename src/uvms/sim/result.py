@@ -7,6 +7,7 @@ Nothing here is recomputed by the integrator: the states are what was integrated
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -14,9 +15,10 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from uvms.output import atomic_write_text  # noqa: F401  (re-exported: result files are written through it)
-from uvms.rotations import euler_from_rotations, rotations_from_quaternions
 from uvms.errors import UvmsInputError, show
-from uvms.sim.integrate import layout
+
+# uvms.rotations and uvms.sim.integrate (numba) are imported where used: reading a run folder's files, and
+# refusing a bad one, does not wait for the compiler to load.
 
 
 class AxisErrors(NamedTuple):
@@ -57,6 +59,8 @@ class Result:
     metadata: dict[str, Any] = field(default_factory=dict)
 
     def _slice(self, name: str) -> np.ndarray:
+        from uvms.sim.integrate import layout
+
         n_act = self.states.shape[1] - 13 - 2 * self.n_joints
         return self.states[:, layout(self.n_joints, n_act)[name]]
 
@@ -72,6 +76,8 @@ class Result:
     @property
     def euler(self) -> np.ndarray:
         """(K, 3) ZYX Euler angles (roll, pitch, yaw) [rad], yaw unwrapped over time."""
+        from uvms.rotations import euler_from_rotations
+
         e = euler_from_rotations(self.rotations())
         if len(e):
             e[:, 2] = np.unwrap(e[:, 2])
@@ -79,6 +85,8 @@ class Result:
 
     def rotations(self) -> np.ndarray:
         """(K, 3, 3) body-to-world rotations ``R`` of the samples."""
+        from uvms.rotations import rotations_from_quaternions
+
         return rotations_from_quaternions(self.quaternion)
 
     @property
@@ -112,6 +120,8 @@ class Result:
         ``error`` (K, 3): ``e_x, e_y`` of ``e = R^T (p - p_d)`` [m] and ``wrap(psi - psi_d)`` to (-pi, pi]
         [rad]; ``error_rate`` (K, 3): ``(e_dot_x, e_dot_y, psi_dot)`` with ``e_dot = v - omega x e`` and Eq. 1's
         ``psi_dot = (sin(phi) q + cos(phi) r) / cos(theta)``; ``velocity`` (K, 3): ``(u, v, r)``."""
+        from uvms.rotations import euler_from_rotations
+
         R = self.rotations()
         p_d = self.position[0] if position_desired is None else np.asarray(position_desired, dtype=float)
         e = np.einsum("kji,kj->ki", R, self.position - p_d).reshape(-1, 3)
@@ -222,6 +232,7 @@ class Result:
         """
         import re
 
+        check_result_files(directory, name)          # sizes and nesting: refused before anything heavy
         from uvms.rotations import quaternion_from_euler
 
         table = load_result_table(directory, name)
@@ -258,6 +269,7 @@ class Result:
 
     def state(self, k: int):
         """The :class:`~uvms.state.State` of sample ``k`` (negative counts from the end)."""
+        from uvms.sim.integrate import layout
         from uvms.state import State
 
         K = len(self.time)
@@ -371,13 +383,27 @@ def check_times(time, source: str | None = None) -> None:
     bad = np.flatnonzero(~np.isfinite(time))
     if bad.size:
         raise UvmsInputError(f"expected finite times, found {time[bad[0]]} in sample {bad[0] + 1}", source, "t_s")
-    back = np.flatnonzero(np.diff(time) < 0)
+    back = np.flatnonzero(time[1:] < time[:-1])
     if back.size:
         k = int(back[0]) + 1
         raise UvmsInputError(f"expected times that do not decrease, found {time[k]:.6g} after {time[k - 1]:.6g} "
                              f"in sample {k + 1}", source, "t_s")
-    if time.size and not np.isfinite(time[-1] - time[0]):
+    if time.size and not math.isfinite(float(time[-1]) - float(time[0])):   # Python floats: inf, no warning
         raise UvmsInputError(f"expected a finite time span, found {time[0]:.6g}..{time[-1]:.6g} s", source, "t_s")
+
+
+def check_result_files(directory, name: str = "result") -> None:
+    """The checks of :func:`load_result_table` and :func:`load_result_summary` that need no parsing (the run
+    folder and its table exist; sizes, column count and JSON nesting within their limits), done first by
+    ``uvms plot`` and ``uvms animate`` so that a refusal comes before any heavy import (well under 1 s)."""
+    directory = Path(directory)
+    if not directory.is_dir():
+        raise UvmsInputError("no such run directory", str(directory))
+    path = directory / f"{name}.csv"
+    if not path.is_file():
+        raise UvmsInputError(f"no {name}.csv here (write one with 'uvms run SCENARIO -o DIR')", str(directory))
+    _check_table_file(path)
+    load_result_summary(directory, name)
 
 
 def load_result_table(directory, name: str = "result"):
@@ -385,8 +411,6 @@ def load_result_table(directory, name: str = "result"):
     (:data:`MAX_TABLE_BYTES`, :data:`MAX_TABLE_COLUMNS`) or foreign table is a one-line
     :class:`~uvms.errors.UvmsInputError` naming the file, and the column and row; so are times ``t_s`` that are
     not finite or that decrease."""
-    import pandas as pd
-
     directory = Path(directory)
     path = directory / f"{name}.csv"
     if not directory.is_dir():
@@ -394,6 +418,7 @@ def load_result_table(directory, name: str = "result"):
     if not path.is_file():
         raise UvmsInputError(f"no {name}.csv here (write one with 'uvms run SCENARIO -o DIR')", str(directory))
     _check_table_file(path)
+    import pandas as pd   # after the size checks: a refusal does not wait for pandas to import
     try:
         table = pd.read_csv(path)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError, OSError) as exc:
