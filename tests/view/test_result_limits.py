@@ -170,3 +170,29 @@ def test_animate_finds_a_model_given_by_a_relative_path(tmp_path, paper):
     lost = uvms_run_folder(runs, paper, "lost", scenario, {"scenario_folder": str(tmp_path / "gone")})
     code, _, err = run_cli(["animate", lost, "--fps", "2"])
     assert code == 2 and "no such model file" in err and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("case", ["huge_position", "nan_joint"])
+def test_a_replay_stops_before_a_pose_it_cannot_draw(paper, case):
+    from uvms.view.animate import REPLAY_LIMIT, replay
+
+    result = synthetic_result(paper)
+    states = result.states.copy()
+    if case == "huge_position":
+        states[20:, 0] = 1e308
+    else:
+        states[20:, 13] = np.nan
+    object.__setattr__(result, "states", states)
+    rp = replay(result, paper, fps=20)
+    assert rp.times[-1] == pytest.approx(result.time[19]) and len(rp.snaps) == 20
+    assert f"stops at t = {result.time[19]:.4g} s" in rp.title
+    assert np.all(np.abs(rp.vehicle_path) < REPLAY_LIMIT)
+
+
+def test_a_replay_with_no_drawable_pose_is_one_line(run, tmp_path):
+    table = load_result_table(run).astype(float)
+    table["x_m"] = np.inf
+    table.to_csv(run / "result.csv", index=False)
+    code, _, err = run_cli(["animate", run, "-o", tmp_path / "a.html"])
+    assert code == 2 and err.count("\n") == 1 and "nothing to replay" in err, err
+    assert not (tmp_path / "a.html").exists()

@@ -92,6 +92,21 @@ def _thrust_fractions(result, scene: Scene) -> tuple[np.ndarray, float]:
     return (T / peak if peak > 0 else T), peak
 
 
+REPLAY_LIMIT = 1e6
+"""Largest vehicle position [m] or joint angle [rad] drawn (plotly draws in 32-bit floats, which overflow near
+3e38; a run keeps no such state: divergence stops it at 1e4 m)."""
+
+
+def drawable_samples(result) -> int:
+    """How many leading samples of ``result`` can be drawn: position, orientation and joint angles finite, the
+    position and joint angles within :data:`REPLAY_LIMIT`. A replay stops before the first other one."""
+    pose = np.hstack([np.asarray(result.position, dtype=float), np.asarray(result.q, dtype=float)])
+    good = np.all(np.isfinite(pose) & (np.abs(np.nan_to_num(pose)) <= REPLAY_LIMIT), axis=1)
+    good &= np.all(np.isfinite(np.asarray(result.quaternion, dtype=float)), axis=1)
+    bad = np.flatnonzero(~good)
+    return int(bad[0]) if bad.size else len(good)
+
+
 def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_frames: int = DEFAULT_MAX_FRAMES,
            thrusters=None, title: str | None = None) -> Replay:
     """The frames of ``result`` (a :class:`~uvms.sim.result.Result`) drawn with ``model``'s scene; ``thrusters``
@@ -103,8 +118,13 @@ def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_f
     if model.n_joints != result.n_joints:
         raise UvmsInputError(f"the run has {result.n_joints} joints, its model {model.name!r} has "
                              f"{model.n_joints}")
+    check_times(result.time)
+    drawn = drawable_samples(result)
+    if drawn == 0:
+        raise UvmsInputError("nothing to replay: the pose of the first sample (position, orientation, joint "
+                             f"angles) is not finite or beyond {REPLAY_LIMIT:g}")
     scene = scene_from_model(model, thrusters)
-    samples, used = frame_samples(result.time, fps=fps, speed=speed, max_frames=max_frames)
+    samples, used = frame_samples(np.asarray(result.time)[:drawn], fps=fps, speed=speed, max_frames=max_frames)
     fractions, peak = _thrust_fractions(result, scene)
     local = [prim.local_mesh() for prim in scene.primitives]
     snaps = []
@@ -117,6 +137,9 @@ def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_f
     arrows = f"; arrows: commanded thrust, longest {peak:.3g} N" if peak > 0 else ""
     speed_text = f", played at {speed:g}x" if speed != 1 else ""
     head = f"{name} (model {model.name}){speed_text}{arrows}"
+    if drawn < len(result.time):
+        head += (f"; stops at t = {result.time[drawn - 1]:.4g} s (later poses not finite or beyond "
+                 f"{REPLAY_LIMIT:g})")
     return Replay(scene=scene, snaps=snaps, times=np.asarray(result.time)[samples], samples=samples, fps=used,
                   target=target, vehicle_path=np.array([s.vehicle for s in snaps]),
                   ee_path=np.array([s.end_effector for s in snaps]), peak_thrust=peak, title=head)
