@@ -312,7 +312,8 @@ def check_destination(path, option: str, *, kind: str, force: bool = False) -> N
 
     ``kind``: ``"file"`` (written through a temporary sibling: its folder must be writable, and it must not be
     a folder), ``"replaced folder"`` (built as a temporary sibling and renamed into place: the parent must be
-    writable, and an existing folder must pass :func:`check_replaceable`, unless ``force``) or ``"folder"`` (written in place, e.g. a resumable sweep: the folder itself must be writable
+    writable, and an existing folder must pass :func:`check_replaceable`, with ``force`` passed on) or
+    ``"folder"`` (written in place, e.g. a resumable sweep: the folder itself must be writable
     if it exists).
     """
     from uvms.errors import UvmsInputError

@@ -60,8 +60,8 @@ def read_json(path: str | os.PathLike[str], *, max_bytes: int, max_depth: int = 
         if not path.is_file():
             raise UvmsInputError("expected a JSON file, found something that is not a regular file", str(path))
         if size > max_bytes:
-            raise UvmsInputError(f"refused: larger than {size_text(max_bytes)} ({size_text(size)}), not a file uvms wrote",
-                                 str(path))
+            raise UvmsInputError(f"refused: larger than {size_text(max_bytes)} ({size_text(size)}), not a file "
+                                 "uvms wrote", str(path))
         with path.open("rb") as fh:
             raw = fh.read(max_bytes + 1)
     except OSError as exc:

@@ -96,7 +96,8 @@ def _title(model, state) -> str:
 
 def show(model, state=None, *, q=None, thrusters=None, title: str | None = None):
     """The model (a Model, or a bundled model name or file path) at ``state`` (default: at the origin, joints at
-    zero; ``q`` overrides the joint angles) as an interactive plotly Figure: shapes, body frames, joint axes, centres of mass and buoyancy, thrusters."""
+    zero; ``q`` overrides the joint angles) as an interactive plotly Figure: shapes, body frames, joint axes,
+    centres of mass and buoyancy, thrusters."""
     from uvms.view.plotly_html import pose_figure
 
     model = as_model(model)
