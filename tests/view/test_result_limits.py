@@ -196,3 +196,26 @@ def test_a_replay_with_no_drawable_pose_is_one_line(run, tmp_path):
     code, _, err = run_cli(["animate", run, "-o", tmp_path / "a.html"])
     assert code == 2 and err.count("\n") == 1 and "nothing to replay" in err, err
     assert not (tmp_path / "a.html").exists()
+
+
+def test_a_run_of_a_scenario_with_a_relative_model_path_can_be_animated(tmp_path, monkeypatch):
+    """End to end: ``uvms run`` records the scenario's folder, so ``uvms animate`` run from anywhere finds the
+    model the run used (the copied ``scenario.yaml`` says ``model: models/mine.yaml``)."""
+    import yaml
+
+    from .conftest import CASE2
+
+    project = tmp_path / "project"
+    (project / "models").mkdir(parents=True)
+    shutil.copy(files("uvms") / "model" / "models" / "paper.yaml", project / "models" / "mine.yaml")
+    data = dict(CASE2, name="relative", duration=0.05, model="models/mine.yaml")
+    (project / "case.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    monkeypatch.chdir(project)
+    code, _, err = run_cli(["run", "case.yaml", "-o", tmp_path / "runs" / "r"])
+    assert code == 0, err
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    code, stdout, err = run_cli(["animate", tmp_path / "runs" / "r", "--fps", "10"])
+    assert code == 0, err
+    assert (tmp_path / "runs" / "r" / "animation.html").is_file()
