@@ -124,11 +124,11 @@ def _listed(folder: Path) -> set[str] | None:
 
 
 def _changed(folder: Path, name: str, digests: dict) -> bool:
-    """Whether the listed file ``name`` is not provably as uvms wrote it: no digest recorded, a link, or a
-    content whose SHA-256 differs from the recorded one (the user edited it, or copied their own file in)."""
+    """Whether the listed file ``name`` is not provably as uvms wrote it: no digest recorded, a link or anything
+    but a regular file, or a content whose SHA-256 differs from the recorded one (the user edited it, or copied their own file in)."""
     path = folder / name
     recorded = digests.get(name)
-    if not isinstance(recorded, str) or path.is_symlink():
+    if not isinstance(recorded, str) or path.is_symlink() or not path.is_file():   # a FIFO would block a read
         return True
     try:
         return file_digest(path) != recorded
@@ -198,7 +198,7 @@ def _write_marker(folder: Path, kind: str) -> None:
 
     files, _ = _entries(folder)
     files = sorted(f for f in files if f != MARKER)
-    digests = {f: file_digest(folder / f) for f in files if not (folder / f).is_symlink()}
+    digests = {f: file_digest(folder / f) for f in files if (folder / f).is_file() and not (folder / f).is_symlink()}
     atomic_write_text(folder / MARKER, _marker_text(
         {"written_by": f"uvms {uvms.__version__}", "kind": kind, "files": files, "sha256": digests}))
 

@@ -284,3 +284,20 @@ def test_check_file_output_and_record_written_follow_one_rule(tmp_path, paper):
     loose.write_bytes(b"png")
     record_written(loose)
     assert not (tmp_path / MARKER).exists()
+
+
+def test_a_listed_fifo_is_the_users_and_never_read(tmp_path, paper):
+    """A named pipe listed in a (hand-made) marker with some digest: reading it to hash it would block for ever."""
+    import os
+
+    run = uvms_run_folder(tmp_path, paper)
+    os.mkfifo(run / "pipe")
+    marker = json.loads((run / MARKER).read_text())
+    marker["files"].append("pipe")
+    marker["sha256"]["pipe"] = "0" * 64
+    (run / MARKER).write_text(json.dumps(marker))
+    start = time.perf_counter()
+    with pytest.raises(UvmsInputError, match=r"\(pipe\)"):
+        check_destination(run, "-o", kind="replaced folder")
+    assert not written_by_uvms(run / "pipe")
+    assert time.perf_counter() - start < 1.0

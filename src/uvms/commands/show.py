@@ -42,11 +42,14 @@ def output_kind(path: Path, option: str = "--output") -> str:
 
 def default_output(model, given: str) -> Path:
     """``<model name>.html`` in the working folder: the model's name if it is a plain file name, else the model
-    file's stem, else ``model.html`` (:func:`uvms.output.default_file_name`; a name never makes a path)."""
+    file's stem made one (other characters become ``_``), else ``model.html``
+    (:func:`uvms.output.default_file_name`; a name never makes a path)."""
     from uvms.output import default_file_name
+    from uvms.schema_base import sanitised_name
 
-    stems = [Path(str(source)).stem for source in (model.source, given) if source and "\0" not in str(source)]
-    return Path(default_file_name([model.name, *stems], ".html", fallback="model"))
+    source = str(model.source or given)
+    stem = sanitised_name(Path(source).stem, "model") if "\0" not in source else "model"
+    return Path(default_file_name([model.name, stem], ".html", fallback="model"))
 
 
 def run(args: argparse.Namespace) -> int:
