@@ -219,3 +219,9 @@ def test_a_run_of_a_scenario_with_a_relative_model_path_can_be_animated(tmp_path
     code, stdout, err = run_cli(["animate", tmp_path / "runs" / "r", "--fps", "10"])
     assert code == 0, err
     assert (tmp_path / "runs" / "r" / "animation.html").is_file()
+
+
+def test_a_playback_speed_that_makes_the_replay_endless_is_one_line(synthetic_run, tmp_path):
+    code, _, err = run_cli(["animate", synthetic_run[0], "-o", tmp_path / "a.html", "--speed", "1e-320"])
+    assert code == 2 and err.count("\n") == 1 and "--speed: expected a playback speed" in err, err
+    assert not (tmp_path / "a.html").exists()

@@ -67,7 +67,10 @@ def frame_samples(time: np.ndarray, *, fps: float, speed: float, max_frames: int
     if max_frames < 1:
         raise UvmsInputError(f"expected at least 1 frame, found {max_frames}", None, "--max-frames")
     check_times(time)
-    wall = float(time[-1] - time[0]) / speed if len(time) else 0.0
+    wall = (float(time[-1]) - float(time[0])) / speed if len(time) else 0.0
+    if not math.isfinite(wall):
+        raise UvmsInputError(f"expected a playback speed at which the replay lasts a finite time, found {speed}",
+                             None, "--speed")
     frames = wall * fps + 1e-9          # may overflow to inf for a huge span: compared before any int()
     wanted_count = int(math.floor(frames)) + 1 if frames < max_frames else max_frames + 1
     count = min(wanted_count, max_frames, len(time))
