@@ -95,3 +95,50 @@ def test_a_local_sweep_says_it_before_starting_its_workers(tmp_path, monkeypatch
     assert cli.main(["sweep", str(path), "-o", str(tmp_path / "other"), "--scheduler", "tcp://127.0.0.1:9"]) == 2
     err = capsys.readouterr().err
     assert "first run only" not in err and "cannot connect to the Dask scheduler" in err, err
+
+
+def test_an_unwritable_numba_cache_dir_of_the_user_falls_back_too(tmp_path, monkeypatch, capsys):
+    """A user's own ``NUMBA_CACHE_DIR`` that cannot be written is not handed to numba (which would then try the
+    folder next to the installed sources, and raise ``cannot cache function``)."""
+    from numba.core import config
+
+    blocker = tmp_path / "a-file"
+    blocker.write_text("x")
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(blocker / "numba"))
+    monkeypatch.setattr(config, "CACHE_DIR", config.CACHE_DIR)
+    _cache.configure()
+    folder = Path(os.environ["NUMBA_CACHE_DIR"])
+    assert folder.name.startswith("uvms-numba-") and _cache._writable(folder) is None
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"NUMBA_CACHE_DIR={blocker / 'numba'}" in err
+
+
+def test_no_writable_folder_at_all_compiles_without_a_cache(tmp_path, monkeypatch, capsys):
+    """Neither the cache home nor a temporary folder can be written (and, simulated, no folder numba could
+    cache in): ``cache=True`` kernels still compile and run, with one warning line."""
+    import numba
+    from numba.core import caching, config, dispatcher
+
+    blocker = tmp_path / "a-file"
+    blocker.write_text("x")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(blocker / "cache"))
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setattr(config, "CACHE_DIR", config.CACHE_DIR)
+    monkeypatch.setattr(dispatcher.Dispatcher, "enable_caching", dispatcher.Dispatcher.enable_caching)
+
+    def no_temporary_folder():
+        raise FileNotFoundError(2, "No usable temporary directory found")
+
+    monkeypatch.setattr(_cache, "_temporary_folder", no_temporary_folder)
+    monkeypatch.setattr(caching.CacheImpl, "_locator_classes", [])      # numba finds nowhere to cache
+    _cache.configure()
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "compiling without a cache" in err and "nor a temporary folder" in err
+    module = tmp_path / "kernel_mod.py"
+    module.write_text("def twice(x):\n    return 2 * x\n")
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("kernel_mod", module)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert numba.njit(cache=True)(mod.twice)(21) == 42                # without the fix: RuntimeError

@@ -3,7 +3,8 @@
 numba's ``cache=True`` checks only the timestamp of the file that defines a function, yet the compiled code
 also contains every kernel it calls from other modules. Keying the cache folder on the contents of every uvms
 module that uses numba means an edited helper never leaves a stale caller in the cache. A user's
-own ``NUMBA_CACHE_DIR`` is respected.
+own ``NUMBA_CACHE_DIR`` is respected when it can be written. Whatever cannot be written, a command still runs
+(:func:`configure`): a temporary folder, else no cache at all; numba never raises "cannot cache function".
 """
 
 from __future__ import annotations
@@ -109,33 +110,74 @@ def announce_compile() -> bool:
     return True
 
 
-def configure() -> None:
-    """Point numba's cache at ``<cache home>/uvms/numba-<fingerprint>`` unless the user chose a folder.
+def compile_without_cache() -> None:
+    """Let every ``cache=True`` kernel compile without a cache when numba finds no folder to cache it in.
 
-    When that folder cannot be written (a read-only home, a service account), the kernels are compiled into a
-    temporary folder for this process only, with one warning line on stderr: every command still works, it
-    just compiles again next time.
-    """
-    if os.environ.get("NUMBA_CACHE_DIR"):
+    numba raises ``RuntimeError: cannot cache function ...`` when neither ``NUMBA_CACHE_DIR``, nor the folder
+    next to the sources (an installed package's folder is often read-only), nor its user-wide folder can be
+    written; uvms then compiles in memory instead, for this process only (numba's ``NullCache``)."""
+    from numba.core import dispatcher
+    from numba.core.caching import NullCache
+
+    original = dispatcher.Dispatcher.enable_caching
+    if getattr(original, "uvms_guarded", False):
         return
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "uvms"
-    folder = base / f"numba-{_fingerprint(Path(__file__).parent)}"
-    reason = _writable(folder)
-    if reason is None:
-        _prune(base, keep=folder)
-    else:
+
+    def enable_caching(self) -> None:
         try:
-            folder = _temporary_folder()
-        except OSError:
-            return   # no writable temporary folder either: numba's own default (next to the sources)
-        sys.stderr.write(f"uvms: warning: cannot write the compiled-kernel cache {base}"
-                         f" ({reason}); compiling for this run only (set NUMBA_CACHE_DIR to a writable folder "
-                         "to keep the compiled kernels)\n")
+            original(self)
+        except RuntimeError:          # "cannot cache function ...: no locator available"
+            self._cache = NullCache()
+
+    enable_caching.uvms_guarded = True    # type: ignore[attr-defined]
+    dispatcher.Dispatcher.enable_caching = enable_caching
+
+
+def _use(folder: Path) -> None:
     os.environ["NUMBA_CACHE_DIR"] = str(folder)
     if "numba" in sys.modules:
         from numba.core import config
 
         config.CACHE_DIR = str(folder)
+
+
+def configure() -> None:
+    """Point numba's cache at ``<cache home>/uvms/numba-<fingerprint>`` unless the user chose a folder
+    (``NUMBA_CACHE_DIR``).
+
+    When that folder (the user's one included) cannot be written (a read-only home, a service account), the
+    kernels are compiled into a temporary folder for this process only, with one warning line on stderr: every
+    command still works, it just compiles again next time. When no temporary folder can be made either, the
+    kernels are compiled without any cache (:func:`compile_without_cache`), again with one warning line: numba's
+    own default, next to the installed sources, is never relied on.
+    """
+    user = os.environ.get("NUMBA_CACHE_DIR")
+    if user:
+        reason = _writable(Path(user))
+        if reason is None:
+            return
+        where = f"NUMBA_CACHE_DIR={user}"
+    else:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "uvms"
+        folder = base / f"numba-{_fingerprint(Path(__file__).parent)}"
+        reason = _writable(folder)
+        if reason is None:
+            _prune(base, keep=folder)
+            _use(folder)
+            return
+        where = str(base)
+    try:
+        folder = _temporary_folder()
+    except OSError as exc:
+        compile_without_cache()
+        sys.stderr.write(f"uvms: warning: cannot write the compiled-kernel cache {where} ({reason}) nor a "
+                         f"temporary folder ({exc.strerror or exc}); compiling without a cache (set "
+                         "NUMBA_CACHE_DIR to a writable folder to keep the compiled kernels)\n")
+        return
+    sys.stderr.write(f"uvms: warning: cannot write the compiled-kernel cache {where}"
+                     f" ({reason}); compiling for this run only (set NUMBA_CACHE_DIR to a writable folder "
+                     "to keep the compiled kernels)\n")
+    _use(folder)
 
 
 configure()

@@ -3,23 +3,29 @@
 Files are written under a temporary name and renamed into place (``mkstemp``/``mkdtemp`` create private
 0600/0700 entries; :func:`publish` and :func:`replace_directory` give them the permissions the user's umask allows
 before they appear under their real name). A result folder (``uvms run -o``, ``uvms reproduce -o``) carries a
-marker, :data:`MARKER`, listing the files uvms wrote into it; an existing folder is replaced only when it is
-empty or its marker lists everything it holds (:func:`check_replaceable`), so a folder that holds a user's file
-is never touched. An ``OSError`` while writing names the user's path, never a hidden temporary one.
+marker, :data:`MARKER`, listing the files uvms wrote into it with the SHA-256 of each; an existing folder is
+replaced only when it is empty or its marker lists everything it holds with unchanged content
+(:func:`check_replaceable`), so a folder that holds a user's file is never touched. A single output file
+(a figure, a page) follows one rule, :func:`check_file_output`: an existing file uvms did not write is replaced
+only when the user named it or passed ``--force``, and a default output name never comes from file content
+(:func:`default_file_name`). An ``OSError`` while writing names the user's path, never a hidden temporary one.
 """
 
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import json
 import os
+import re
 import shutil
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
 MARKER = ".uvms-output.json"
-"""File in every result folder uvms writes: ``{"written_by": "uvms <version>", "kind": ..., "files": [...]}``."""
+"""File in every result folder uvms writes: ``{"written_by": "uvms <version>", "kind": ..., "files": [...],
+"sha256": {file: hex digest}}``."""
 
 
 def allowed_permissions(bits: int) -> int:
@@ -76,22 +82,77 @@ def _entries(folder: Path) -> tuple[list[str], list[str]]:
     return files, folders
 
 
-def _listed(folder: Path) -> set[str] | None:
-    """The files the marker of ``folder`` says uvms wrote, or ``None`` when there is no readable marker."""
+MARKER_MAX_BYTES = 4 * 1024 * 1024
+"""Largest :data:`MARKER` read [bytes] (one line per file uvms wrote; a bigger one is not uvms's)."""
+
+
+def file_digest(path) -> str:
+    """SHA-256 of a file's content (hex), read in 1 MiB blocks."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _marker(folder: Path) -> dict | None:
+    """The :data:`MARKER` of ``folder`` as ``{"files": [...], "sha256": {...}, ...}``, or ``None`` when there is
+    no readable one (absent, damaged, oversized, or a file list that is not a list of names)."""
+    from uvms.errors import UvmsInputError
+    from uvms.safe_json import read_json
+
+    path = folder / MARKER
+    if not path.is_file() or path.is_symlink():
+        return None
     try:
-        data = json.loads((folder / MARKER).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        data = read_json(path, max_bytes=MARKER_MAX_BYTES)
+    except UvmsInputError:
         return None
     files = data.get("files") if isinstance(data, dict) else None
     if not isinstance(files, list) or not all(isinstance(f, str) for f in files):
         return None
-    return set(files)
+    digests = data.get("sha256")
+    if not isinstance(digests, dict):
+        data["sha256"] = {}        # an older marker, without digests: its files are not known to be uvms's
+    return data
 
 
-def check_replaceable(folder, option: str = "--output") -> None:
-    """Refuse to replace ``folder`` unless it is absent, empty, or holds only what uvms wrote there (as listed
-    by its :data:`MARKER`). Raises a one-line :class:`~uvms.errors.UvmsInputError` naming ``folder``, the
-    ``option`` and a few of the foreign entries; nothing is touched."""
+def _listed(folder: Path) -> set[str] | None:
+    """The files the marker of ``folder`` says uvms wrote, or ``None`` when there is no readable marker."""
+    data = _marker(folder)
+    return None if data is None else set(data["files"])
+
+
+def _changed(folder: Path, name: str, digests: dict) -> bool:
+    """Whether the listed file ``name`` is not provably as uvms wrote it: no digest recorded, a link or anything
+    but a regular file, or a content whose SHA-256 differs from the recorded one (the user edited it, or copied their own file in)."""
+    path = folder / name
+    recorded = digests.get(name)
+    if not isinstance(recorded, str) or path.is_symlink() or not path.is_file():   # a FIFO would block a read
+        return True
+    try:
+        return file_digest(path) != recorded
+    except OSError:
+        return True
+
+
+def written_by_uvms(path) -> bool:
+    """Whether the existing file ``path`` is one uvms wrote and nobody changed since: the :data:`MARKER` of its
+    folder lists it with the SHA-256 of its present content."""
+    path = Path(path).absolute()
+    data = _marker(path.parent)
+    return data is not None and path.name in data["files"] and not _changed(path.parent, path.name,
+                                                                            data["sha256"])
+
+
+def check_replaceable(folder, option: str = "--output", *, force: bool = False) -> None:
+    """Refuse to replace ``folder`` unless it is absent, empty, or holds only what uvms wrote there: every file
+    listed by its :data:`MARKER` with the SHA-256 it had when uvms wrote it (a listed file that changed since,
+    or one listed without a digest by an older marker, is the user's). Raises a one-line
+    :class:`~uvms.errors.UvmsInputError` naming ``folder``, the ``option`` and a few of the foreign entries;
+    nothing is touched. ``force`` (``--force``) accepts a folder uvms wrote (one with a readable marker) even
+    when files were added or changed since (they are replaced with it); a folder without a marker is refused
+    even then: it was never uvms's (a home, a thesis folder), and a typo in ``-o`` must not delete it."""
     from uvms.errors import UvmsInputError
 
     folder = Path(folder)
@@ -103,49 +164,102 @@ def check_replaceable(folder, option: str = "--output") -> None:
     files, folders = _entries(folder)
     if not files and not folders:
         return
-    listed = _listed(folder)
-    if listed is None:
+    data = _marker(folder)
+    if data is None:
         names = ", ".join(sorted(files + folders)[:3]) + (", ..." if len(files) + len(folders) > 3 else "")
         raise UvmsInputError(f"holds files that uvms did not write ({names}; no {MARKER}); nothing was "
                              "changed: choose a new or empty folder", str(folder), option)
+    if force:
+        return
+    listed = set(data["files"])
     parents = {parent.as_posix() for f in listed for parent in Path(f).parents if parent != Path(".")}
     foreign = sorted([f for f in files if f not in listed and f != MARKER] +
                      [d for d in folders if d not in parents])
     if foreign:
         names = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
         raise UvmsInputError(f"holds {len(foreign)} entr{'y' if len(foreign) == 1 else 'ies'} that uvms did not "
-                             f"write ({names}); nothing was changed: move them or choose another folder",
+                             f"write ({names}); nothing was changed: move them or choose another folder (or pass "
+                             "--force)", str(folder), option)
+    changed = sorted(f for f in files if f != MARKER and _changed(folder, f, data["sha256"]))
+    if changed:
+        names = ", ".join(changed[:3]) + (", ..." if len(changed) > 3 else "")
+        raise UvmsInputError(f"holds {len(changed)} file{'' if len(changed) == 1 else 's'} changed since uvms wrote "
+                             f"{'it' if len(changed) == 1 else 'them'} or not recorded with its content ({names});"
+                             " nothing was changed: move them or choose another folder (or pass --force)",
                              str(folder), option)
+
+
+def _marker_text(data: dict) -> str:
+    return json.dumps(data, indent=1, sort_keys=False) + "\n"
 
 
 def _write_marker(folder: Path, kind: str) -> None:
     import uvms
 
     files, _ = _entries(folder)
-    atomic_write_text(folder / MARKER, json.dumps(
-        {"written_by": f"uvms {uvms.__version__}", "kind": kind, "files": sorted(f for f in files if f != MARKER)},
-        indent=1) + "\n")
+    files = sorted(f for f in files if f != MARKER)
+    digests = {f: file_digest(folder / f) for f in files if (folder / f).is_file() and not (folder / f).is_symlink()}
+    atomic_write_text(folder / MARKER, _marker_text(
+        {"written_by": f"uvms {uvms.__version__}", "kind": kind, "files": files, "sha256": digests}))
+
+
+def check_file_output(path, option: str = "--output", *, named: bool, force: bool = False) -> bool:
+    """Check an output file before any work (:func:`check_destination`) and apply the one rule of every output
+    file uvms writes: an existing file uvms did not write (:func:`written_by_uvms`) is replaced only when the
+    user named it (``named``: ``-o`` that file) or passed ``--force`` (``force``); a default output is otherwise
+    refused with one line naming the file, and nothing is written.
+
+    Returns whether uvms may list the file, once written, in its folder's :data:`MARKER`
+    (:func:`record_written`): only a new file, or one uvms wrote before (a user's file that the user named
+    stays the user's: the folder holding it is then no longer replaceable as a whole)."""
+    from uvms.errors import UvmsInputError
+
+    check_destination(path, option, kind="file")
+    path = Path(path)
+    if not path.exists() and not path.is_symlink():
+        return True
+    if written_by_uvms(path):
+        return True
+    if named or force:
+        return False
+    raise UvmsInputError("exists and uvms did not write it (or it changed since); nothing was written: name it "
+                         f"with {option} to replace it, pass --force, or choose another file", str(path), option)
 
 
 def record_written(path) -> None:
-    """Add ``path``, a file uvms just wrote, to the :data:`MARKER` of the uvms folder it lies in (a figure that
-    ``uvms plot`` draws into a run folder), so that the folder may still be replaced by a rerun."""
+    """Add ``path``, a file uvms just wrote, with its SHA-256 to the :data:`MARKER` of the uvms folder it lies
+    in (a figure that ``uvms plot`` draws into a run folder), so that the folder may still be replaced by a
+    rerun. Call it only when :func:`check_file_output` said so; a folder without a marker gets none."""
     path = Path(path).absolute()
     folder = path.parent
-    listed = _listed(folder)
-    if listed is None or path.name in listed:
+    data = _marker(folder)
+    if data is None:
         return
-    data = json.loads((folder / MARKER).read_text(encoding="utf-8"))
-    data["files"] = sorted(listed | {path.name})
-    atomic_write_text(folder / MARKER, json.dumps(data, indent=1) + "\n")
+    data["files"] = sorted(set(data["files"]) | {path.name})
+    data["sha256"] = {**data["sha256"], path.name: file_digest(path)}
+    atomic_write_text(folder / MARKER, _marker_text(data))
 
 
-def replace_directory(tmp: Path, final: Path, *, kind: str, option: str = "--output") -> None:
+_SAFE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]{0,99}")
+
+
+def default_file_name(names, suffix: str, fallback: str = "uvms") -> str:
+    """A default output file name ``<name><suffix>`` in the working folder from the first of ``names`` that is
+    a plain file name: a letter or digit, then letters, digits, ``_ . + -`` (at most 100 characters). A model's
+    name comes from its file and may be anything (``../../x``, ``/home/u/victim``, a NUL): it never chooses
+    where an output goes; ``fallback`` when none qualifies."""
+    for name in names:
+        if isinstance(name, str) and _SAFE_NAME.fullmatch(name) and name not in (".", ".."):
+            return name + suffix
+    return fallback + suffix
+
+
+def replace_directory(tmp: Path, final: Path, *, kind: str, option: str = "--output", force: bool = False) -> None:
     """Put a finished temporary folder in place in one rename, swapping out an older uvms folder at ``final``.
 
     The folder is marked as uvms's (:data:`MARKER`, with ``kind`` such as ``"run"``). ``final`` is checked
     again just before the swap: if a foreign file appeared there meanwhile, the new results are kept in a free
-    sibling folder and the error says where.
+    sibling folder and the error says where. ``force`` (``--force``): any folder at ``final`` is replaced.
     """
     from uvms.errors import UvmsInputError
 
@@ -154,7 +268,7 @@ def replace_directory(tmp: Path, final: Path, *, kind: str, option: str = "--out
         _write_marker(tmp, kind)
         os.chmod(tmp, allowed_permissions(0o777))
         try:
-            check_replaceable(final, option)
+            check_replaceable(final, option, force=force)
         except UvmsInputError as exc:
             kept = _free_sibling(final)
             os.replace(tmp, kept)
@@ -177,7 +291,7 @@ def _free_sibling(path: Path) -> Path:
 
 
 @contextlib.contextmanager
-def staged_directory(final, *, kind: str, option: str = "--output") -> Iterator[Path]:
+def staged_directory(final, *, kind: str, option: str = "--output", force: bool = False) -> Iterator[Path]:
     """A temporary sibling of ``final`` to write a result folder into; on success it replaces ``final`` as a
     whole (:func:`replace_directory`), on any error or Ctrl-C it is removed and ``final`` is untouched."""
     final = Path(final)
@@ -187,25 +301,26 @@ def staged_directory(final, *, kind: str, option: str = "--output") -> Iterator[
     try:
         with naming(final):
             yield tmp
-        replace_directory(tmp, final, kind=kind, option=option)
+        replace_directory(tmp, final, kind=kind, option=option, force=force)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 
 
-def check_destination(path, option: str, *, kind: str) -> None:
+def check_destination(path, option: str, *, kind: str, force: bool = False) -> None:
     """Refuse, before any long computation, an output ``path`` that could never be written. Raises a one-line
     :class:`~uvms.errors.UvmsInputError` naming ``path`` and the command-line ``option``.
 
     ``kind``: ``"file"`` (written through a temporary sibling: its folder must be writable, and it must not be
     a folder), ``"replaced folder"`` (built as a temporary sibling and renamed into place: the parent must be
-    writable, and an existing folder must pass :func:`check_replaceable`) or ``"folder"`` (written in place, e.g. a resumable sweep: the folder itself must be writable
+    writable, and an existing folder must pass :func:`check_replaceable`, with ``force`` passed on) or
+    ``"folder"`` (written in place, e.g. a resumable sweep: the folder itself must be writable
     if it exists).
     """
     from uvms.errors import UvmsInputError
 
     path = Path(path).absolute()
     if kind == "replaced folder":
-        check_replaceable(path, option)
+        check_replaceable(path, option, force=force)
     if kind == "file" and path.is_dir():
         raise UvmsInputError("expected a file name, found a folder", str(path), option)
     where = path if kind == "folder" and path.exists() else path.parent

@@ -255,11 +255,52 @@ def _panels(table) -> list[Callable[[Axes], Axes]]:
     return panels
 
 
+DRAW_LIMIT = 1e100
+"""Values of larger magnitude are left out of a figure, as NaN and inf are (matplotlib's axis arithmetic
+overflows near 1e308: ``Axis limits cannot be NaN or Inf``). A run keeps no such state: divergence stops it at
+1e4 m, 1e3 m/s or rad/s, 1e6 of an actuator state."""
+
+
+def drawable(table):
+    """``table`` with every value that is not finite or beyond :data:`DRAW_LIMIT` in magnitude set to NaN (not
+    drawn), and how many such values there were."""
+    import numpy as np
+
+    values = table.to_numpy(dtype=float)
+    hidden = ~np.isfinite(values) | (np.abs(np.nan_to_num(values)) > DRAW_LIMIT)
+    count = int(np.count_nonzero(hidden & ~np.isnan(values)))
+    if not hidden.any():
+        return table, 0
+    return table.mask(hidden), count
+
+
+def check_drawable(table, source: str | None = None) -> None:
+    """Refuse a run with nothing to draw: no finite value (within :data:`DRAW_LIMIT`) in any of the columns
+    ``uvms plot`` always draws (position, attitude, end effector). One line naming ``source``."""
+    import numpy as np
+
+    from uvms.errors import UvmsInputError
+    from uvms.sim.result import PLOTTED_COLUMNS
+
+    columns = [c for c in PLOTTED_COLUMNS[1:] if c in table.columns]
+    values = table[columns].to_numpy(dtype=float)
+    if not np.any(np.isfinite(values) & (np.abs(np.nan_to_num(values)) <= DRAW_LIMIT)):
+        raise UvmsInputError(f"nothing to draw: every value of {', '.join(columns)} is NaN, infinite or beyond "
+                             f"{DRAW_LIMIT:g}", source)
+
+
 def timeseries_figure(table, *, title: str | None = None) -> Figure:
     """A multi-panel figure of one run: vehicle position and attitude, joints, end-effector path, and the
-    controller's signals when there are any (two panels per row)."""
+    controller's signals when there are any (two panels per row). Values that are not finite or beyond
+    :data:`DRAW_LIMIT` are left out (:func:`drawable`) and counted in the title; a run with nothing to draw is
+    refused (:func:`check_drawable`)."""
     from matplotlib.figure import Figure
 
+    check_drawable(table)
+    table, hidden = drawable(table)
+    if hidden:
+        note = f"{hidden} value{'s' if hidden > 1 else ''} not finite or beyond {DRAW_LIMIT:g} not drawn"
+        title = f"{title}\n({note})" if title else f"({note})"
     panels = _panels(table)
     rows = (len(panels) + 1) // 2
     fig = Figure(figsize=(13, 3.6 * rows), layout="constrained")

@@ -108,8 +108,16 @@ def test_rerun_replaces_a_previous_run_but_never_a_folder_holding_other_files(tm
     path = write_scenario(tmp_path, lambda d: d.update(duration=0.01))
     out = tmp_path / "out"
     assert main(["run", str(path), "-o", str(out)]) == 0
-    (out / "result.csv").write_text("an older table")              # uvms's own file: replaced by the rerun
-    assert main(["run", str(path), "-o", str(out)]) == 0
+    first = (out / "result.json").read_text()
+    assert main(["run", str(path), "-o", str(out)]) == 0             # uvms's own files, unchanged: replaced
+    assert (out / "result.json").read_text() != first                # (the wall time differs)
+    (out / "result.csv").write_text("an older table")              # listed, but changed since: the user's now
+    capsys.readouterr()
+    assert main(["run", str(path), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "changed since uvms wrote it" in err and "result.csv" in err
+    assert (out / "result.csv").read_text() == "an older table"
+    assert main(["run", str(path), "-o", str(out), "--force"]) == 0   # an earlier run's folder, forced
     assert (out / "result.csv").read_text() != "an older table" and (out / "result.json").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["case.yaml", "out"]
 

@@ -5,6 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+VIDEO_SUFFIXES = (".mp4", ".gif")
+"""Video outputs (:data:`uvms.view.animate.VIDEO_SUFFIXES`, repeated here so that checking the output's name
+imports nothing heavy)."""
+
 NAME = "animate"
 HELP = ("replay a saved run (a folder written by 'uvms run') in 3-D: an offline .html page with play/pause and a "
         "time slider (default RUN/animation.html), or an .mp4/.gif video")
@@ -18,7 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "result.json, scenario.yaml)")
     parser.add_argument("-o", "--output", metavar="FILE", default=None,
                         help="FILE.html (interactive, offline), FILE.mp4 (needs ffmpeg) or FILE.gif; "
-                             "default: RUN/animation.html")
+                             "default: RUN/animation.html, which never replaces a file uvms did not write")
+    parser.add_argument("--force", action="store_true",
+                        help="let the default output replace an existing file that uvms did not write")
     parser.add_argument("--fps", type=float, default=DEFAULT_FPS,
                         help=f"frames per second of playback (default {DEFAULT_FPS:g})")
     parser.add_argument("--speed", type=float, default=1.0,
@@ -35,9 +41,8 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from uvms.errors import UvmsInputError
-    from uvms.output import check_destination, record_written
-    from uvms.sim.result import Result
-    from uvms.view.animate import VIDEO_SUFFIXES, model_of_run, replay, write_replay_html, write_video
+    from uvms.output import check_file_output, record_written
+    from uvms.sim.result import check_result_files
 
     directory = Path(args.directory)
     if args.output == "":
@@ -46,9 +51,13 @@ def run(args: argparse.Namespace) -> int:
     suffix = output.suffix.lower()
     if suffix not in (".html", ".htm") + VIDEO_SUFFIXES:
         raise UvmsInputError("expected a .html, .mp4 or .gif file name", str(output), "--output")
+    check_result_files(directory)          # sizes and nesting first: refused before the heavy imports
+    from uvms.sim.result import Result
+    from uvms.view.animate import model_of_run, replay, write_replay_html, write_video
+
     result = Result.load(directory)
     model, thrusters = model_of_run(directory)
-    check_destination(output, "--output", kind="file")
+    record = check_file_output(output, "--output", named=args.output is not None, force=args.force)
     rp = replay(result, model, fps=args.fps, speed=args.speed, max_frames=args.max_frames, thrusters=thrusters)
     if suffix in VIDEO_SUFFIXES:
         if args.start is not None:
@@ -61,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
                 raise UvmsInputError(f"expected a time in seconds, found {args.start}", None, "--start")
             start = int(np.argmin(np.abs(rp.times - args.start)))
         write_replay_html(rp, output, start=start)
-    record_written(output)
+    if record:                      # a new file, or one uvms wrote: listed in the run folder's marker
+        record_written(output)
     print(f"{len(rp.snaps)} frames at {rp.fps:.3g} fps ({rp.times[0]:.3g}..{rp.times[-1]:.3g} s) written to {output}")
     return 0

@@ -13,22 +13,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the arguments of ``uvms plot``."""
     parser.add_argument("directory", metavar="DIR", help="a run directory written by 'uvms run'")
     parser.add_argument("-o", "--output", metavar="FILE.png", default=None,
-                        help="figure file (default: DIR/timeseries.png; the format follows the extension)")
+                        help="figure file (default: DIR/timeseries.png, which never replaces a file uvms did not "
+                             "write; the format follows the extension)")
+    parser.add_argument("--force", action="store_true",
+                        help="let the default output replace an existing file that uvms did not write")
 
 
 def run(args: argparse.Namespace) -> int:
     """Read the run's table, draw it, save the figure."""
-    from uvms.output import record_written
-    from uvms.plots import check_figure_path, save_figure, timeseries_figure
-    from uvms.sim.result import load_result_summary, load_result_table
+    from uvms.errors import UvmsInputError
+    from uvms.output import check_file_output, record_written
+    from uvms.plots import check_drawable, check_figure_path, save_figure, timeseries_figure
+    from uvms.sim.result import check_result_files, load_result_summary, load_result_table
 
+    if args.output == "":
+        raise UvmsInputError("expected a file name, found an empty string", None, "--output")
     directory = Path(args.directory)
+    check_result_files(directory)          # sizes and nesting first: refused before pandas is imported
     table = load_result_table(directory)
     summary = load_result_summary(directory)
+    check_drawable(table, str(directory / "result.csv"))
     output = check_figure_path(args.output if args.output else directory / "timeseries.png", "--output")
+    record = check_file_output(output, "--output", named=args.output is not None, force=args.force)
     fig = timeseries_figure(table, title=_title(summary, directory))
     save_figure(fig, output)
-    record_written(output)
+    if record:                      # a new file, or one uvms wrote: listed in the run folder's marker
+        record_written(output)
     print(f"figure saved to {output}")
     return 0
 

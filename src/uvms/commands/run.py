@@ -27,7 +27,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenario", metavar="SCENARIO",
                         help="scenario YAML file, or a bundled scenario name (e.g. paper_case2_released)")
     parser.add_argument("-o", "--output", metavar="DIR", default=None,
-                        help="output directory (default: runs/<scenario name>); a previous run there is replaced")
+                        help="output directory (default: runs/<scenario name>); a previous run there is replaced, "
+                             "a folder holding files uvms did not write is refused")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an earlier run's directory (one with a .uvms-output.json) even if files "
+                             "were added to it or changed since (they are deleted); a folder uvms never wrote is "
+                             "refused even then")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -43,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
 
         raise UvmsInputError("expected a folder name, found an empty string", None, "--output")
     out = Path(args.output) if args.output is not None else Path("runs") / scenario.name
-    _check_output(out)
+    _check_output(out, force=args.force)
 
     progress = _Progress(scenario.name)
     try:
@@ -51,7 +56,9 @@ def run(args: argparse.Namespace) -> int:
     finally:
         progress.close()
 
-    with staged_directory(out, kind="run") as tmp:
+    if scenario.source:           # where a relative model path resolves ('uvms animate' reads it back)
+        result.metadata["scenario_folder"] = str(Path(scenario.source).resolve().parent)
+    with staged_directory(out, kind="run", force=args.force) as tmp:
         result.save(tmp)
         atomic_write_text(tmp / "scenario.yaml", scenario.text)
 
@@ -69,15 +76,16 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_output(out: Path) -> None:
-    """Refuse an output path that holds anything but an earlier uvms run, or that contains the working folder."""
+def _check_output(out: Path, *, force: bool = False) -> None:
+    """Refuse an output path that holds anything but an earlier uvms run (unless ``force``), or that contains
+    the working folder (even with ``force``)."""
     from uvms.errors import UvmsInputError
     from uvms.output import check_destination
 
     if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
         raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
                              "--output")
-    check_destination(out, "--output", kind="replaced folder")
+    check_destination(out, "--output", kind="replaced folder", force=force)
 
 
 class _Progress:

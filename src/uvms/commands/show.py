@@ -23,23 +23,33 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="vehicle roll pitch yaw (ZYX Euler angles) [rad] (default: 0 0 0)")
     parser.add_argument("-o", "--output", metavar="FILE", default=None,
                         help="FILE.html (interactive, works offline), or FILE.png/.pdf/.svg/.jpg (static); "
-                             "default: <model name>.html")
+                             "default: <model name>.html in the working folder, which never replaces a file "
+                             "uvms did not write")
+    parser.add_argument("--force", action="store_true",
+                        help="let the default output replace an existing file that uvms did not write")
 
 
 def output_kind(path: Path, option: str = "--output") -> str:
-    """``"html"`` or ``"figure"`` from the extension, after checking that the file can be written."""
+    """``"html"`` or ``"figure"`` from the extension (else a one-line error naming ``option``)."""
     from uvms.errors import UvmsInputError
-    from uvms.output import check_destination
-    from uvms.plots import FIGURE_SUFFIXES, check_figure_path
+    from uvms.plots import FIGURE_SUFFIXES
 
     suffix = path.suffix.lower()
-    if suffix in HTML_SUFFIXES:
-        check_destination(path, option, kind="file")
-        return "html"
-    if suffix in FIGURE_SUFFIXES:
-        check_figure_path(path, option)
-        return "figure"
-    raise UvmsInputError("expected a .html, .png, .pdf, .svg or .jpg file name", str(path), option)
+    if suffix not in HTML_SUFFIXES + FIGURE_SUFFIXES:
+        raise UvmsInputError("expected a .html, .png, .pdf, .svg or .jpg file name", str(path), option)
+    return "html" if suffix in HTML_SUFFIXES else "figure"
+
+
+def default_output(model, given: str) -> Path:
+    """``<model name>.html`` in the working folder: the model's name if it is a plain file name, else the model
+    file's stem made one (other characters become ``_``), else ``model.html``
+    (:func:`uvms.output.default_file_name`; a name never makes a path)."""
+    from uvms.output import default_file_name
+    from uvms.schema_base import sanitised_name
+
+    source = str(model.source or given)
+    stem = sanitised_name(Path(source).stem, "model") if "\0" not in source else "model"
+    return Path(default_file_name([model.name, stem], ".html", fallback="model"))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -48,13 +58,15 @@ def run(args: argparse.Namespace) -> int:
 
     from uvms.errors import UvmsInputError
     from uvms.model.load import load_model
+    from uvms.output import check_file_output, record_written
     from uvms.state import State
 
     model = load_model(args.model)
-    output = Path(args.output) if args.output else Path(f"{model.name}.html")
     if args.output == "":
         raise UvmsInputError("expected a file name, found an empty string", None, "--output")
+    output = Path(args.output) if args.output else default_output(model, args.model)
     kind = output_kind(output)
+    record = check_file_output(output, "--output", named=args.output is not None, force=args.force)
     for option, values in (("--position", args.position), ("--euler", args.euler)):
         if values is not None and not np.all(np.isfinite(values)):
             raise UvmsInputError(f"expected finite numbers, found {values}", None, option)
@@ -69,5 +81,7 @@ def run(args: argparse.Namespace) -> int:
         from uvms.plots import save_figure
 
         save_figure(picture(model, state), output, dpi=130)
+    if record:
+        record_written(output)
     print(f"{model.name} drawn to {output}")
     return 0

@@ -7,6 +7,7 @@ Nothing here is recomputed by the integrator: the states are what was integrated
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -14,9 +15,10 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from uvms.output import atomic_write_text  # noqa: F401  (re-exported: result files are written through it)
-from uvms.rotations import euler_from_rotations, rotations_from_quaternions
 from uvms.errors import UvmsInputError, show
-from uvms.sim.integrate import layout
+
+# uvms.rotations and uvms.sim.integrate (numba) are imported where used: reading a run folder's files, and
+# refusing a bad one, does not wait for the compiler to load.
 
 
 class AxisErrors(NamedTuple):
@@ -57,6 +59,8 @@ class Result:
     metadata: dict[str, Any] = field(default_factory=dict)
 
     def _slice(self, name: str) -> np.ndarray:
+        from uvms.sim.integrate import layout
+
         n_act = self.states.shape[1] - 13 - 2 * self.n_joints
         return self.states[:, layout(self.n_joints, n_act)[name]]
 
@@ -72,6 +76,8 @@ class Result:
     @property
     def euler(self) -> np.ndarray:
         """(K, 3) ZYX Euler angles (roll, pitch, yaw) [rad], yaw unwrapped over time."""
+        from uvms.rotations import euler_from_rotations
+
         e = euler_from_rotations(self.rotations())
         if len(e):
             e[:, 2] = np.unwrap(e[:, 2])
@@ -79,6 +85,8 @@ class Result:
 
     def rotations(self) -> np.ndarray:
         """(K, 3, 3) body-to-world rotations ``R`` of the samples."""
+        from uvms.rotations import rotations_from_quaternions
+
         return rotations_from_quaternions(self.quaternion)
 
     @property
@@ -112,6 +120,8 @@ class Result:
         ``error`` (K, 3): ``e_x, e_y`` of ``e = R^T (p - p_d)`` [m] and ``wrap(psi - psi_d)`` to (-pi, pi]
         [rad]; ``error_rate`` (K, 3): ``(e_dot_x, e_dot_y, psi_dot)`` with ``e_dot = v - omega x e`` and Eq. 1's
         ``psi_dot = (sin(phi) q + cos(phi) r) / cos(theta)``; ``velocity`` (K, 3): ``(u, v, r)``."""
+        from uvms.rotations import euler_from_rotations
+
         R = self.rotations()
         p_d = self.position[0] if position_desired is None else np.asarray(position_desired, dtype=float)
         e = np.einsum("kji,kj->ki", R, self.position - p_d).reshape(-1, 3)
@@ -222,6 +232,7 @@ class Result:
         """
         import re
 
+        check_result_files(directory, name)          # sizes and nesting: refused before anything heavy
         from uvms.rotations import quaternion_from_euler
 
         table = load_result_table(directory, name)
@@ -258,6 +269,7 @@ class Result:
 
     def state(self, k: int):
         """The :class:`~uvms.state.State` of sample ``k`` (negative counts from the end)."""
+        from uvms.sim.integrate import layout
         from uvms.state import State
 
         K = len(self.time)
@@ -323,21 +335,90 @@ def _json_default(obj):
 PLOTTED_COLUMNS = ("t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "ee_x_m", "ee_y_m")
 """Columns every saved run's table has (what ``uvms plot`` needs at the least)."""
 
+MAX_TABLE_BYTES = 256 * 1024 * 1024
+"""Largest ``result.csv`` read back [bytes] (256 MiB: a 100 s run of the BlueROV2 Heavy + Alpha 5 recorded every
+millisecond is about 90 MiB). Checked with ``stat`` before reading, so a refusal takes milliseconds."""
+
+MAX_TABLE_COLUMNS = 10_000
+"""Most columns of a ``result.csv`` (a model with 100 joints and 100 thrusters has about 700 with its signals).
+Counted on the header line, read on its own (at most :data:`MAX_HEADER_BYTES`), before the table is parsed."""
+
+MAX_HEADER_BYTES = 1024 * 1024
+"""Longest header line of a ``result.csv`` [bytes]."""
+
+MAX_SUMMARY_BYTES = 16 * 1024 * 1024
+"""Largest ``result.json`` read back [bytes]; nested at most :data:`uvms.safe_json.MAX_DEPTH` levels."""
+
 _SUMMARY_TYPES = {"complete": bool, "message": str, "metadata": dict, "health": dict}
 _METADATA_TYPES = {"scenario": str, "vehicle": str, "controller": str}
 
 
-def load_result_table(directory, name: str = "result"):
-    """A saved run's ``<name>.csv`` as a pandas DataFrame of numbers, checked: a missing, damaged or foreign
-    table is a one-line :class:`~uvms.errors.UvmsInputError` naming the file, and the column and row."""
-    import pandas as pd
+def _check_table_file(path: Path) -> None:
+    """Refuse, before parsing, a table larger than :data:`MAX_TABLE_BYTES` or with more than
+    :data:`MAX_TABLE_COLUMNS` columns (one line naming the file); a refusal reads at most the header line."""
+    from uvms.safe_json import size_text
 
+    try:
+        size = path.stat().st_size
+        if size > MAX_TABLE_BYTES:
+            raise UvmsInputError(f"refused: larger than {size_text(MAX_TABLE_BYTES)} ({size_text(size)}), more than a "
+                                 "uvms run writes", str(path))
+        with path.open("rb") as fh:
+            header = fh.readline(MAX_HEADER_BYTES + 1)
+    except OSError as exc:
+        raise UvmsInputError(f"cannot read the table: {exc.strerror or exc}", str(path)) from None
+    if len(header) > MAX_HEADER_BYTES:
+        raise UvmsInputError(f"refused: a header line longer than {size_text(MAX_HEADER_BYTES)}, not a uvms result "
+                             "table", str(path))
+    columns = header.count(b",") + 1
+    if columns > MAX_TABLE_COLUMNS:
+        raise UvmsInputError(f"refused: {columns:,} columns, more than the {MAX_TABLE_COLUMNS:,} a uvms result "
+                             "table may have", str(path))
+
+
+def check_times(time, source: str | None = None) -> None:
+    """Refuse sample times that cannot be replayed: not finite (NaN, inf) or decreasing. One line, naming the
+    first bad sample; a run uvms wrote has finite, increasing times."""
+    time = np.asarray(time, dtype=float).reshape(-1)
+    bad = np.flatnonzero(~np.isfinite(time))
+    if bad.size:
+        raise UvmsInputError(f"expected finite times, found {time[bad[0]]} in sample {bad[0] + 1}", source, "t_s")
+    back = np.flatnonzero(time[1:] < time[:-1])
+    if back.size:
+        k = int(back[0]) + 1
+        raise UvmsInputError(f"expected times that do not decrease, found {time[k]:.6g} after {time[k - 1]:.6g} "
+                             f"in sample {k + 1}", source, "t_s")
+    if time.size and not math.isfinite(float(time[-1]) - float(time[0])):   # Python floats: inf, no warning
+        raise UvmsInputError(f"expected a finite time span, found {time[0]:.6g}..{time[-1]:.6g} s", source, "t_s")
+
+
+def check_result_files(directory, name: str = "result") -> None:
+    """The checks of :func:`load_result_table` and :func:`load_result_summary` that need no parsing (the run
+    folder and its table exist; sizes, column count and JSON nesting within their limits), done first by
+    ``uvms plot`` and ``uvms animate`` so that a refusal comes before any heavy import (well under 1 s)."""
+    directory = Path(directory)
+    if not directory.is_dir():
+        raise UvmsInputError("no such run directory", str(directory))
+    path = directory / f"{name}.csv"
+    if not path.is_file():
+        raise UvmsInputError(f"no {name}.csv here (write one with 'uvms run SCENARIO -o DIR')", str(directory))
+    _check_table_file(path)
+    load_result_summary(directory, name)
+
+
+def load_result_table(directory, name: str = "result"):
+    """A saved run's ``<name>.csv`` as a pandas DataFrame of numbers, checked: a missing, damaged, oversized
+    (:data:`MAX_TABLE_BYTES`, :data:`MAX_TABLE_COLUMNS`) or foreign table is a one-line
+    :class:`~uvms.errors.UvmsInputError` naming the file, and the column and row; so are times ``t_s`` that are
+    not finite or that decrease."""
     directory = Path(directory)
     path = directory / f"{name}.csv"
     if not directory.is_dir():
         raise UvmsInputError("no such run directory", str(directory))
     if not path.is_file():
         raise UvmsInputError(f"no {name}.csv here (write one with 'uvms run SCENARIO -o DIR')", str(directory))
+    _check_table_file(path)
+    import pandas as pd   # after the size checks: a refusal does not wait for pandas to import
     try:
         table = pd.read_csv(path)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError, OSError) as exc:
@@ -353,22 +434,26 @@ def load_result_table(directory, name: str = "result"):
             row = int(numbers.isna().to_numpy().nonzero()[0][0]) if numbers.isna().any() else 0
             raise UvmsInputError(f"expected numbers, found {show(values.iloc[row])} in row {row + 1}",
                                  str(path), f"column {show(column)}")
+    try:
+        check_times(table["t_s"].to_numpy(dtype=float), str(path))
+    except UvmsInputError as exc:
+        raise UvmsInputError(exc.message.replace("sample", "row"), exc.source, "column 't_s'") from None
     return table
 
 
 def load_result_summary(directory, name: str = "result") -> dict:
-    """A saved run's ``<name>.json`` (``{}`` when there is none), checked: what is there has the types
+    """A saved run's ``<name>.json`` (``{}`` when there is none), checked: at most :data:`MAX_SUMMARY_BYTES` and
+    :data:`uvms.safe_json.MAX_DEPTH` levels deep (refused before parsing), and what is there has the types
     :meth:`Result.summary` writes, else a one-line :class:`~uvms.errors.UvmsInputError` naming the field."""
+    from uvms.safe_json import read_json
+
     path = Path(directory) / f"{name}.json"
     if not path.exists():
         return {}
-    try:
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise UvmsInputError(f"cannot read: {' '.join(str(exc).split())[:200]}", str(path)) from None
+    summary = read_json(path, max_bytes=MAX_SUMMARY_BYTES)
     if not isinstance(summary, dict):
         raise UvmsInputError(f"expected a mapping, found {show(summary)}", str(path))
-    for fields, where, prefix in ((_SUMMARY_TYPES, summary, ""), (_METADATA_TYPES, summary.get("metadata", {}),
+    for fields, where, prefix in ((_SUMMARY_TYPES, summary, ""), (_METADATA_TYPES, summary.get("metadata") or {},
                                                                    "metadata.")):
         for key, kind in fields.items():
             if key in where and where[key] is not None and not isinstance(where[key], kind):

@@ -29,13 +29,45 @@ def __getattr__(name: str) -> Any:   # numpy and the scene on first use: `uvms -
     raise AttributeError(f"module 'uvms.view' has no attribute {name!r}")
 
 
+def as_model(model, argument: str = "model"):
+    """``model`` itself if it is a :class:`~uvms.model.model.Model`, else loaded by name or path
+    (:func:`uvms.load_model`: ``show("paper")`` works); anything else is a one-line
+    :class:`~uvms.errors.UvmsInputError` naming ``argument``."""
+    import os
+
+    from uvms.model.model import Model
+
+    if isinstance(model, Model):
+        return model
+    if isinstance(model, (str, os.PathLike)):
+        from uvms.model.load import load_model
+
+        return load_model(model)
+    from uvms.errors import show as render
+
+    raise UvmsInputError(f"expected a Model, a bundled model name or a model file path, found "
+                         f"{type(model).__name__} {render(model)}", None, argument)
+
+
+def _state(model, state):
+    """``state`` checked to be a :class:`~uvms.state.State` (or ``None``)."""
+    from uvms.state import State
+
+    if state is not None and not isinstance(state, State):
+        raise UvmsInputError(f"expected a uvms.State (or None), found {type(state).__name__}", None, "state")
+    if state is not None and state.q.size != model.n_joints:
+        raise UvmsInputError(f"expected a state of model {model.name!r} ({model.n_joints} joints), found one with "
+                             f"{state.q.size} joints", None, "state")
+    return state
+
+
 def state_at(model, state=None, *, q=None):
     """``state`` (default: the vehicle at the origin, level), with the joint angles ``q`` [rad] if given."""
     import numpy as np
 
     from uvms.state import State
 
-    state = State.zero(model) if state is None else state
+    state = State.zero(model) if _state(model, state) is None else state
     if q is not None:
         q = np.asarray(q, dtype=float).reshape(-1)
         if q.size != model.n_joints:
@@ -63,10 +95,12 @@ def _title(model, state) -> str:
 
 
 def show(model, state=None, *, q=None, thrusters=None, title: str | None = None):
-    """The model at ``state`` (default: at the origin, joints at zero; ``q`` overrides the joint angles) as an
-    interactive plotly Figure: shapes, body frames, joint axes, centres of mass and buoyancy, thrusters."""
+    """The model (a Model, or a bundled model name or file path) at ``state`` (default: at the origin, joints at
+    zero; ``q`` overrides the joint angles) as an interactive plotly Figure: shapes, body frames, joint axes,
+    centres of mass and buoyancy, thrusters."""
     from uvms.view.plotly_html import pose_figure
 
+    model = as_model(model)
     scene, snap, state = _snapshot(model, state, q, thrusters)
     return pose_figure(scene, snap, title=title or _title(model, state))
 
@@ -78,6 +112,7 @@ def picture(model, state=None, *, q=None, thrusters=None, title: str | None = No
     from uvms.view import png
     from uvms.view.scene import equal_ranges
 
+    model = as_model(model)
     scene, snap, state = _snapshot(model, state, q, thrusters)
     ranges = equal_ranges(np.vstack([snap.points(), 1.15 * scene.world_axis_length * np.eye(3)]))
     return png.pose_figure(scene, snap, ranges, title=title or _title(model, state))
@@ -98,5 +133,6 @@ def animate_run(result, model=None, *, fps: float = DEFAULT_FPS, speed: float = 
             raise UvmsInputError("pass the model: the result was not read from a run folder (Result.load)")
         model, layout = model_of_run(directory)
         thrusters = layout if thrusters is None else thrusters
+    model = as_model(model)
     rp = replay(result, model, fps=fps, speed=speed, max_frames=max_frames, thrusters=thrusters)
     return replay_figure(rp, start=start)

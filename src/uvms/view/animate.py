@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from uvms.errors import UvmsInputError
+from uvms.sim.result import check_times
 from uvms.view import DEFAULT_FPS, DEFAULT_MAX_FRAMES
 from uvms.view.scene import Scene, Snapshot, equal_ranges, pose_scene, scene_from_model
 
@@ -65,8 +66,13 @@ def frame_samples(time: np.ndarray, *, fps: float, speed: float, max_frames: int
         raise UvmsInputError(f"expected a positive playback speed, found {speed}", None, "--speed")
     if max_frames < 1:
         raise UvmsInputError(f"expected at least 1 frame, found {max_frames}", None, "--max-frames")
-    wall = float(time[-1] - time[0]) / speed if len(time) else 0.0
-    wanted_count = int(math.floor(wall * fps + 1e-9)) + 1
+    check_times(time)
+    wall = (float(time[-1]) - float(time[0])) / speed if len(time) else 0.0
+    if not math.isfinite(wall):
+        raise UvmsInputError(f"expected a playback speed at which the replay lasts a finite time, found {speed}",
+                             None, "--speed")
+    frames = wall * fps + 1e-9          # may overflow to inf for a huge span: compared before any int()
+    wanted_count = int(math.floor(frames)) + 1 if frames < max_frames else max_frames + 1
     count = min(wanted_count, max_frames, len(time))
     if count <= 1:
         return np.zeros(1, dtype=int), fps
@@ -89,6 +95,21 @@ def _thrust_fractions(result, scene: Scene) -> tuple[np.ndarray, float]:
     return (T / peak if peak > 0 else T), peak
 
 
+REPLAY_LIMIT = 1e6
+"""Largest vehicle position [m] or joint angle [rad] drawn (plotly draws in 32-bit floats, which overflow near
+3e38; a run keeps no such state: divergence stops it at 1e4 m)."""
+
+
+def drawable_samples(result) -> int:
+    """How many leading samples of ``result`` can be drawn: position, orientation and joint angles finite, the
+    position and joint angles within :data:`REPLAY_LIMIT`. A replay stops before the first other one."""
+    pose = np.hstack([np.asarray(result.position, dtype=float), np.asarray(result.q, dtype=float)])
+    good = np.all(np.isfinite(pose) & (np.abs(np.nan_to_num(pose)) <= REPLAY_LIMIT), axis=1)
+    good &= np.all(np.isfinite(np.asarray(result.quaternion, dtype=float)), axis=1)
+    bad = np.flatnonzero(~good)
+    return int(bad[0]) if bad.size else len(good)
+
+
 def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_frames: int = DEFAULT_MAX_FRAMES,
            thrusters=None, title: str | None = None) -> Replay:
     """The frames of ``result`` (a :class:`~uvms.sim.result.Result`) drawn with ``model``'s scene; ``thrusters``
@@ -100,8 +121,13 @@ def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_f
     if model.n_joints != result.n_joints:
         raise UvmsInputError(f"the run has {result.n_joints} joints, its model {model.name!r} has "
                              f"{model.n_joints}")
+    check_times(result.time)
+    drawn = drawable_samples(result)
+    if drawn == 0:
+        raise UvmsInputError("nothing to replay: the pose of the first sample (position, orientation, joint "
+                             f"angles) is not finite or beyond {REPLAY_LIMIT:g}")
     scene = scene_from_model(model, thrusters)
-    samples, used = frame_samples(result.time, fps=fps, speed=speed, max_frames=max_frames)
+    samples, used = frame_samples(np.asarray(result.time)[:drawn], fps=fps, speed=speed, max_frames=max_frames)
     fractions, peak = _thrust_fractions(result, scene)
     local = [prim.local_mesh() for prim in scene.primitives]
     snaps = []
@@ -114,6 +140,9 @@ def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_f
     arrows = f"; arrows: commanded thrust, longest {peak:.3g} N" if peak > 0 else ""
     speed_text = f", played at {speed:g}x" if speed != 1 else ""
     head = f"{name} (model {model.name}){speed_text}{arrows}"
+    if drawn < len(result.time):
+        head += (f"; stops at t = {result.time[drawn - 1]:.4g} s (later poses not finite or beyond "
+                 f"{REPLAY_LIMIT:g})")
     return Replay(scene=scene, snaps=snaps, times=np.asarray(result.time)[samples], samples=samples, fps=used,
                   target=target, vehicle_path=np.array([s.vehicle for s in snaps]),
                   ee_path=np.array([s.end_effector for s in snaps]), peak_thrust=peak, title=head)
@@ -183,14 +212,43 @@ def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -
 
 
 def model_of_run(directory):
-    """The model and thruster layout of a saved run, from its ``scenario.yaml`` (written by ``uvms run``)."""
+    """The model and thruster layout of a saved run, from its ``scenario.yaml`` (written by ``uvms run``).
+
+    The copy is the user's scenario verbatim, so a relative ``model:`` path is relative to the folder the
+    scenario file was in when it ran (``metadata.scenario_folder`` of ``result.json``; older runs: the folder
+    of ``metadata.scenario_source``), not to the run folder; the run folder is tried last (a run moved together
+    with its model file)."""
+    from uvms.safe_yaml import read_yaml_mapping
+    from uvms.sim.result import load_result_summary
     from uvms.sim.run import Actuation
-    from uvms.sim.scenario import load_scenario
+    from uvms.sim.scenario import scenario_from_data
 
     directory = Path(directory)
     path = directory / "scenario.yaml"
     if not path.is_file():
         raise UvmsInputError("no scenario.yaml here, so the model of the run is unknown (a folder written by "
                              "'uvms run SCENARIO -o DIR' has one)", str(directory))
-    scenario = load_scenario(path)
+    data = read_yaml_mapping(path, "scenario fields")
+    text = path.read_text(encoding="utf-8")
+    metadata = load_result_summary(directory).get("metadata") or {}
+    scenario = scenario_from_data(data, source=str(path), base_dir=_model_folder(data.get("model"), directory,
+                                                                                   metadata),
+                                  text=text, default_name=directory.name)
     return scenario.model, Actuation.named(scenario.spec.actuators, scenario.model).thrusters
+
+
+def _model_folder(model, directory: Path, metadata: dict) -> Path:
+    """The folder a run's relative ``model:`` path resolves against (see :func:`model_of_run`)."""
+    if not isinstance(model, str) or not model or "\0" in model or Path(model).expanduser().is_absolute():
+        return directory
+    candidates = [metadata.get("scenario_folder"), metadata.get("scenario_source")]
+    folders = [Path(candidates[0])] if isinstance(candidates[0], str) and "\0" not in candidates[0] else []
+    if isinstance(candidates[1], str) and "\0" not in candidates[1]:
+        folders.append(Path(candidates[1]).parent)
+    for folder in folders:
+        try:
+            if (folder / model).exists():
+                return folder
+        except OSError:
+            continue
+    return directory
