@@ -73,7 +73,7 @@ def test_layout_without_sway_is_named(tmp_path, capsys):
     (["--q", "0", "0"], "--q: expected 3 joint values (joints: joint1, joint2, joint3), found 2"),
     (["--q", "0", "nan", "0"], "--q: expected finite joint values"),
     (["--q", "0", "inf", "0"], "--q: expected finite joint values"),
-    (["--q", "0", "x", "0"], "argument --q: invalid float value: 'x'"),
+    (["--q", "0", "x", "0"], "--q: expected NAME=VALUE (a joint name and a number) or numbers in joint order, found 'x'"),
 ])
 def test_bad_q_one_line_exit_2(capsys, argv, expected):
     assert main(["validate", "paper", *argv]) == 2

@@ -61,9 +61,9 @@ def test_default_show_output_is_named_after_the_model(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("argv, message", [
     (["show", "nosuchmodel", "-o", "x.html"], "nosuchmodel"),
-    (["show", "paper", "--q", "0.1", "-o", "x.html"], "--q: expected 3 joint angles for model 'paper', found 1"),
+    (["show", "paper", "--q", "0.1", "-o", "x.html"], "--q: expected 3 joint values (joints: joint1, joint2, joint3), found 1"),
     (["show", "paper", "-o", "x.txt"], "x.txt: --output: expected a .html, .png, .pdf, .svg or .jpg file name"),
-    (["show", "paper", "--q", "nan", "0", "0", "-o", "x.html"], "--q: expected finite joint angles"),
+    (["show", "paper", "--q", "nan", "0", "0", "-o", "x.html"], "--q: expected finite joint values"),
     (["show", "paper", "-o", ""], "--output: expected a file name"),
     (["show", "paper", "--position", "0", "inf", "0", "-o", "x.png"], "--position: expected finite numbers"),
 ])
