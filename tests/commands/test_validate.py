@@ -79,3 +79,21 @@ def test_bad_q_one_line_exit_2(capsys, argv, expected):
     assert main(["validate", "paper", *argv]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and err.startswith("uvms: error: ") and expected in err
+
+
+def test_end_effector_is_named_as_the_model_file_names_it(capsys):
+    """The BlueROV2 Heavy + Alpha 5 file says ``end_effector: tool``: the summary says ``tool`` (the frame
+    between the jaw tips), and the body it is fixed in; the paper's DH end effector is a frame of its own."""
+    import uvms
+    from uvms.model.report import end_effector_name
+
+    assert main(["validate", "bluerov2_heavy_alpha5"]) == 0
+    assert "(end effector 'tool', fixed in body 'm1_link')" in capsys.readouterr().out
+    assert main(["validate", "bluerov2_heavy_alpha5", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["end_effector"] == "tool" and data["end_effector_body"] == "m1_link"
+    assert main(["validate", "paper"]) == 0
+    assert "(end effector 'end_effector', fixed in body 'link3')" in capsys.readouterr().out
+    model = uvms.load_model("bluerov2_heavy_alpha5")
+    assert end_effector_name(model.with_end_effector("jaws_base_link")) == "jaws_base_link"
+    assert end_effector_name(model.with_end_effector("m1_link")) == "m1_link"

@@ -25,7 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Load the model (errors surface as one-line :class:`~uvms.errors.UvmsInputError`), summarise and report."""
     from uvms.model import load_model
-    from uvms.model.report import model_report
+    from uvms.model.report import end_effector_name, model_report
 
     model = load_model(args.model)
     report = model_report(model, q=q_option(model, args.q))
@@ -33,7 +33,8 @@ def run(args: argparse.Namespace) -> int:
         import json
 
         data = {"valid": True, "source": model.source, "joints": list(model.joint_names),
-                "frames": len(model.frames), "end_effector_body": model.body_names[model.ee_body],
+                "frames": len(model.frames), "end_effector": end_effector_name(model),
+                "end_effector_body": model.body_names[model.ee_body],
                 **report.to_dict()}
         print(json.dumps(data, indent=2, allow_nan=False))
         return 0
@@ -41,7 +42,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"  joints:               {model.n_joints}")
     if model.n_joints:
         print(f"  joint order (q):      {', '.join(model.joint_names)}")
-    print(f"  frames:               {len(model.frames)} (end effector on {model.body_names[model.ee_body]!r})")
+    print(f"  frames:               {len(model.frames)} (end effector {end_effector_name(model)!r}, fixed in body "
+          f"{model.body_names[model.ee_body]!r})")
     print(f"  thrusters:            {len(model.thrusters)}")
     print(report.table())
     return 0
