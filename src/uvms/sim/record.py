@@ -125,7 +125,8 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
     end_effector_path(plan.model.kernel, np.ascontiguousarray(out_x), ee)
     meta = {"integrator": plan.integrator.name, "step_s": timing.h, "duration_s": timing.duration,
             "fixed_base": plan.fixed_base,
-            "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name, **versions(),
+            "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name,
+            "joint_names": list(plan.model.joint_names), "joint_types": list(plan.model.joint_type), **versions(),
             **actuation_metadata(plan), **(plan.recording.metadata or {})}
     report_joint_limits(plan.model, out_t, out_x, out_tau, meta)
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
