@@ -171,3 +171,29 @@ def test_animate_bad_input_is_one_line(synthetic_run, tmp_path, case, message):
     assert code == 2, err
     assert err.count("\n") == 1 and message in err and "Traceback" not in err
     assert not (tmp_path / "out.html").exists()
+
+
+def test_video_title_fits_the_frame(synthetic_run, tmp_path, monkeypatch):
+    """A long title (run name, model, thrust note) is broken into lines that fit the frame's width, not cut."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import uvms.view.animate as animate
+    from uvms.view import png
+
+    fig, _ = png.new_figure(size=(7.2, 6.4))
+    text = "a_rather_long_run_name_of_a_sweep (model bluerov2_heavy_alpha5), played at 2x; arrows: commanded " \
+           "thrust, longest 51.8 N"
+    title = animate.fitted_title(fig, text)
+    assert title.replace("\n", " ") == text and title.count("\n") >= 1
+    renderer = fig.canvas.get_renderer()
+    shown = fig.text(0, 0, title, fontsize="medium")
+    assert shown.get_window_extent(renderer).width <= fig.get_figwidth() * fig.dpi
+    titles = []
+    real = png.style_axes
+    monkeypatch.setattr(png, "style_axes", lambda ax, ranges, t: (titles.append(t), real(ax, ranges, t))[1])
+    code, _, err = run_cli(["animate", synthetic_run[0], "-o", tmp_path / "run.gif", "--fps", "1"])
+    assert code == 0, err
+    assert titles and all(len(t.splitlines()) >= 2 for t in titles)
+    head = titles[0].rsplit("\n", 1)[0]
+    assert animate.fitted_title(fig, head.replace("\n", " ")) == head     # what was drawn is the fitted title
