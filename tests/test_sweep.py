@@ -205,14 +205,14 @@ def test_metrics_agree_with_result(warm_kernels):
     data["inputs"]["current"] = {"constant": [0.1, -0.1, 0.0]}
     result = run_scenario(scenario_from_data(data))
     m = compute_metrics(result, ["peak_body_error_xy_m", "peak_abs_yaw_rad", "max_abs_s_surge", "rms_command_X",
-                                 "final_q1_rad", "max_abs_yaw_rad", "max_abs_no_such_signal"])
+                                 "final_q_joint1_rad", "final_q1_rad", "max_abs_yaw_rad", "max_abs_no_such_signal"])
     summary = result.summary()
     assert m["peak_body_error_xy_m"] == pytest.approx(summary["peak_body_error_xy_m"], rel=1e-12)
     assert m["peak_abs_yaw_rad"] == pytest.approx(summary["peak_abs_euler_rad"][2], rel=1e-12)
     assert m["max_abs_yaw_rad"] == pytest.approx(np.abs(result.euler[:, 2]).max(), rel=1e-12)
     assert m["max_abs_s_surge"] == pytest.approx(summary["peak_abs_signal"]["s_surge"], rel=1e-12)
     assert m["rms_command_X"] == pytest.approx(np.sqrt(np.mean(result.signals["command_X"] ** 2)), rel=1e-12)
-    assert m["final_q1_rad"] == result.q[-1, 0]
+    assert m["final_q_joint1_rad"] == result.q[-1, 0] and m["final_q1_rad"] == result.q[-1, 0]  # older name too
     assert np.isnan(m["max_abs_no_such_signal"])
 
 

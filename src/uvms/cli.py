@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+import warnings
 from importlib.metadata import PackageNotFoundError, version
 
 from uvms.commands import COMMANDS
@@ -43,8 +44,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A Python warning as one line on stderr, ``uvms: warning: <message>`` (no file, line or source)."""
+    print(f"uvms: warning: {' '.join(str(message).split())}", file=sys.stderr, flush=True)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the CLI and return the exit code (``--help``, ``--version`` and usage errors included)."""
+    """Run the CLI and return the exit code (``--help``, ``--version`` and usage errors included). Python
+    warnings print as one line each (``uvms: warning: ...``), every distinct one once (Python's default filter)."""
+    with warnings.catch_warnings():       # the filters stay the caller's: Python's default shows a warning once
+        warnings.showwarning = _show_warning
+        return _main(argv)
+
+
+def _main(argv: list[str] | None) -> int:
     try:
         args = build_parser().parse_args(argv)
         from uvms._cache import set_compile_notice

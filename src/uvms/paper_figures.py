@@ -24,8 +24,9 @@ PAPER_ORDER = ("fixed", "released", "controlled")
 """The cases in the paper's order (its legends: case 1, 2, 3)."""
 AXES = ("surge", "sway", "yaw")
 VISIBLE = 0.2
-"""A bound (epsilon, Phi) is drawn in a panel when the data reach at least this fraction of it; otherwise it would
-squash the data to a line, and the subtitle states it instead."""
+"""Fig. 6 draws epsilon in a panel when the data reach at least this fraction of it (otherwise it would squash
+the data to a line, and the subtitle states it instead); Fig. 7 always draws Phi and adds an inset of ``s`` on
+its own scale below this fraction."""
 
 
 def _pyplot():
@@ -121,7 +122,7 @@ def _error_figure(result, series, title: str, path, *, epsilon: float | None = N
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     peak_xy = float(np.hypot(e[:, 0], e[:, 1]).max())
-    note = (f"peak abs error x {peaks[0] * units[0][0]:.3g} {units[0][1]}, "
+    note = (f"peak abs body-frame error x {peaks[0] * units[0][0]:.3g} {units[0][1]}, "
             f"y {peaks[1] * units[1][0]:.3g} {units[1][1]}, "
             f"yaw {np.abs(yaw).max():.3g} deg")
     if epsilon is not None:
@@ -149,9 +150,11 @@ def fig6_controlled(result, series, path, epsilon: float) -> str:
                          epsilon=epsilon)
 
 
-def fig7_sliding(result, path, phi: float) -> str:
-    """``s`` per axis with the boundary layer +/- Phi where the data reach it (Figure 7); surge and sway in
-    mm/s, yaw in mrad/s when small."""
+def fig7_axes(result, phi: float):
+    """Figure 7 drawn, not saved: ``(figure, axes, note)``. Each panel shows ``s`` of one axis and the boundary
+    layer +/- Phi, always inside the panel's limits (the y range covers +/- 1.15 max(max abs(s), Phi)); where
+    ``s`` stays below :data:`VISIBLE` of Phi, and would be a flat line at that scale, an inset repeats it on its
+    own scale. Surge and sway in mm/s, yaw in mrad/s when small."""
     plt = _pyplot()
     fig, axes = plt.subplots(3, 1, figsize=(7.0, 6.6), sharex=True)
     ratios = []
@@ -160,23 +163,35 @@ def fig7_sliding(result, path, phi: float) -> str:
         s = np.zeros_like(result.time) if s is None else np.asarray(s, dtype=float)
         peak = float(np.nanmax(np.abs(s))) if np.isfinite(s).any() else 0.0
         ratios.append(peak / phi)
-        small = max(peak, phi if peak >= VISIBLE * phi else 0.0) < 0.1
+        small = max(peak, phi) < 0.1
         scale = 1e3 if small else 1.0
         unit = ("mm/s" if small else "m/s") if j < 2 else ("mrad/s" if small else "rad/s")
         ax.plot(result.time, s * scale, color="tab:blue", label="s")
-        if peak >= VISIBLE * phi:
-            ax.axhline(phi * scale, color="tab:red", linestyle="--", label=r"$\pm\Phi$ boundary layer")
-            ax.axhline(-phi * scale, color="tab:red", linestyle="--")
-            ax.legend(loc="upper right", fontsize=8)
+        ax.axhline(phi * scale, color="tab:red", linestyle="--", label=r"$\pm\Phi$ boundary layer")
+        ax.axhline(-phi * scale, color="tab:red", linestyle="--")
+        limit = 1.15 * max(peak, phi) * scale
+        ax.set_ylim(-limit, limit)
+        if 0 < peak < VISIBLE * phi:
+            inset = ax.inset_axes([0.62, 0.08, 0.36, 0.36])
+            inset.plot(result.time, s * scale, color="tab:blue", linewidth=0.8)
+            inset.set_title("s, own scale", fontsize=7)
+            inset.tick_params(labelsize=6)
+        ax.legend(loc="upper left", fontsize=8)
         ax.set_ylabel(f"s {AXES[j]} [{unit}]")
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     note = "max abs(s) / Phi: " + ", ".join(f"{a} {r:.2g}" for a, r in zip(AXES, ratios))
-    hidden = [a for a, r in zip(AXES, ratios) if r < VISIBLE]
-    if hidden:
-        units = ", ".join(f"{phi * 1e3:.3g} {'mm/s' if a != 'yaw' else 'mrad/s'} ({a})" for a in hidden)
-        note += f"; the boundary layer +/-Phi ({units}) is beyond the axes"
+    zoomed = [a for a, r in zip(AXES, ratios) if 0 < r < VISIBLE]
+    if zoomed:
+        note += f"; inset: s on its own scale ({', '.join(zoomed)})"
     _title(axes[0], "Fig. 7: sliding variables and boundary layer", note, width=85)
+    return fig, axes, note
+
+
+def fig7_sliding(result, path, phi: float) -> str:
+    """``s`` per axis with the boundary layer +/- Phi inside every panel (Figure 7, :func:`fig7_axes`),
+    written to ``path``; returns the caption."""
+    fig, _, note = fig7_axes(result, phi)
     _save(fig, path)
     return note
 

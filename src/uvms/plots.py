@@ -23,7 +23,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 _STATE_COLUMN = re.compile(
-    r"t_s|[xyz]_m|(roll|pitch|yaw)_rad|[pqr]_rad_s|[uvw]_m_s|q\d+_rad|qd\d+_rad_s|tau\d+_Nm|ee_[xyz]_m|actuator\d+")
+    r"t_s|[xyz]_m|(roll|pitch|yaw)_rad|[pqr]_rad_s|[uvw]_m_s|ee_[xyz]_m|actuator\d+")   # and the joints' columns
 _FORCE_AXES = {"command_X": "X (surge)", "command_Y": "Y (sway)", "command_Z": "Z (heave)"}
 _MOMENT_AXES = {"command_K": "K (roll)", "command_M": "M (pitch)", "command_N": "N (yaw)"}
 
@@ -90,16 +90,21 @@ def _present(table, names) -> list[str]:
     return [c for c in names if c in table.columns and table[c].notna().any()]
 
 
-def joint_columns(table, prefix: str, suffix: str) -> list[str]:
-    """``<prefix>1<suffix>, <prefix>2<suffix>, ...`` present in the table, in joint order."""
-    pattern = re.compile(rf"{re.escape(prefix)}(\d+){re.escape(suffix)}")
-    found = [(int(m.group(1)), c) for c in table.columns if (m := pattern.fullmatch(c))]
-    return [c for _, c in sorted(found)]
+def joint_columns(table, kind: str) -> list[tuple[str, str]]:
+    """``(joint, column)`` of every joint's ``kind`` column (``"q"``, ``"qd"`` or ``"tau"``) present in the
+    table, in joint order (named ``q_<joint>_rad`` ..., or an older file's ``q1_rad``: :mod:`uvms.sim.columns`)."""
+    from uvms.sim.columns import table_joints
+
+    tokens, columns = table_joints(table.columns)
+    return [(t, c) for t, c in zip(tokens, getattr(columns, kind)) if c in table.columns]
 
 
 def controller_columns(table) -> list[str]:
     """Columns that are controller or actuator signals (everything that is not a state column)."""
-    return [c for c in table.columns if not _STATE_COLUMN.fullmatch(c) and table[c].notna().any()]
+    from uvms.sim.columns import table_joints
+
+    joints = set(table_joints(table.columns)[1].all())
+    return [c for c in table.columns if not _STATE_COLUMN.fullmatch(c) and c not in joints and table[c].notna().any()]
 
 
 def plot_vehicle_position(ax: Axes, table) -> Axes:
@@ -121,15 +126,15 @@ def plot_euler_angles(ax: Axes, table) -> Axes:
 
 def plot_joint_angles(ax: Axes, table) -> Axes:
     """Joint angles q_i [rad]."""
-    for c in joint_columns(table, "q", "_rad"):
-        ax.plot(table["t_s"], table[c], label=c.removesuffix("_rad"))
+    for joint, c in joint_columns(table, "q"):
+        ax.plot(table["t_s"], table[c], label=joint)
     return _style(ax, "Joint angles", "angle [rad]")
 
 
 def plot_joint_torques(ax: Axes, table) -> Axes:
     """Applied joint torques tau_i [N m]."""
-    for c in joint_columns(table, "tau", "_Nm"):
-        ax.plot(table["t_s"], table[c], label=c.removesuffix("_Nm"), drawstyle="steps-post")
+    for joint, c in joint_columns(table, "tau"):
+        ax.plot(table["t_s"], table[c], label=joint, drawstyle="steps-post")
     return _style(ax, "Applied joint torques", "torque [N m]")
 
 

@@ -129,6 +129,8 @@ def case_metrics(result, fixed, *, bandwidth: float = PAPER_LAMBDA, phi: float =
         "peak_abs_y_m": series.metric("peak_abs_y_m"),
         "peak_abs_yaw_rad": series.metric("peak_abs_yaw_rad"),   # unwrapped: a drift past 180 deg counts in full
         "peak_body_error_xy_m": series.metric("peak_body_error_xy_m"),
+        "peak_body_error_x_m": series.metric("max_abs_axis_error_surge"),   # R^T (p - p0), as Figs. 5-6 draw it
+        "peak_body_error_y_m": series.metric("max_abs_axis_error_sway"),
         "peak_ee_deviation_m": float(np.linalg.norm(result.end_effector - fixed.end_effector, axis=1).max()),
         "max_abs_s": {}, "time_outside_boundary_s": {}, "peak_command": {}, "command_sign_changes": {},
         "final_q": result.q[-1].tolist(),
@@ -238,7 +240,7 @@ def claims(metrics: dict, chatter: dict) -> list[dict[str, str]]:
                      f"{c['peak_ee_deviation_m'] * 1e3:.1f} mm, uncontrolled {r['peak_ee_deviation_m'] * 1e3:.0f} mm",
          "verdict": "holds" if c["peak_ee_deviation_m"] < 0.01 < r["peak_ee_deviation_m"] else "does not hold"},
         {"claim": "Without control the arm's reaction moves the vehicle (Fig. 5)",
-         "measured": f"peak drift x {r['peak_abs_x_m']:.2f} m, y {r['peak_abs_y_m']:.2f} m, yaw "
+         "measured": f"peak drift (world frame) x {r['peak_abs_x_m']:.2f} m, y {r['peak_abs_y_m']:.2f} m, yaw "
                      f"{math.degrees(r['peak_abs_yaw_rad']):.0f} deg",
          "verdict": "holds" if max(r["peak_abs_x_m"], r["peak_abs_y_m"]) > 0.1 else "does not hold"},
         {"claim": "The commanded forces are smooth, free of chattering, thanks to the boundary layer (Fig. 8)",
@@ -773,6 +775,30 @@ def _lost_claims(rows: list[dict], layout_rows: list[dict]) -> list[str]:
     return [r["claim"] for r in layout_rows if r["verdict"] != "holds" and r["claim"] in held]
 
 
+def layout_failure_words(rows: list[dict], layout_rows: list[dict], act: str) -> str:
+    """The one sentence that counts the claims the paper's 3-thruster layout fails (the summary and its section
+    both say it, in these words): how many of all fail with it, and how many of those hold with ``act``."""
+    failed = [r["claim"] for r in layout_rows if r["verdict"] != "holds"]
+    lost = _lost_claims(rows, layout_rows)
+    if not failed:
+        return f"With the paper's 3-thruster layout (`paper-layout`), all {len(layout_rows)} claims hold."
+    return (f"With the paper's 3-thruster layout (`paper-layout`), {len(failed)} of the {len(layout_rows)} claims "
+            f"fail; {len(lost)} of these {len(failed)} hold with `{act}` actuators, so the layout is what breaks "
+            "them" + (": " + "; ".join(lost) if lost else "") + ".")
+
+
+def world_and_body_words(cases: dict) -> str:
+    """Why a case's peak x (or y) differs between the Cases table (world frame) and Figs. 5-6 (body frame),
+    with the released case's numbers."""
+    c = cases.get("released") or next(iter(cases.values()))
+    name = "released" if "released" in cases else next(iter(cases))
+    return ("Peak abs x and y are the vehicle's displacement from its start in the world frame (north, east); the "
+            "body x and y errors are the same displacement in the vehicle's own axes, R^T (p - p0), as Figs. 5-6 "
+            "draw them. The body axes turn with the vehicle's yaw, so the two peaks differ: case "
+            f"{name}, world x {c['peak_abs_x_m'] * 1e3:.3g} mm and body x {c['peak_body_error_x_m'] * 1e3:.3g} mm, "
+            f"with yaw up to {math.degrees(c['peak_abs_yaw_rad']):.3g} deg.")
+
+
 def report_sections(metrics: dict, table=None) -> list[Section]:
     """The report as one structure (rendered by :func:`render_markdown` and :func:`render_html`); every
     sentence that states a result is computed from ``metrics``."""
@@ -788,9 +814,7 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
                f"The paper's central claim (smc-ab against smc-ne with an IMU) **{central['verdict']}**: "
                f"{central['finding']} ({central['details']})."]
     if layout:
-        lost = _lost_claims(rows, layout["claims"])
-        summary.append(f"With the paper's own 3-thruster layout (`paper-layout`), {len(lost)} of the claims that "
-                       f"hold with `{act}` actuators fail" + (": " + "; ".join(lost) if lost else "") + ".")
+        summary.append(layout_failure_words(rows, layout["claims"], act))
     sections = [Section("Summary", [Bullets(summary)])]
     sections.append(Section("Setup", [
         f"Actuators `{act}`; controller model error factor {PAPER_MODEL_ERROR} (its added mass and drag are "
@@ -813,8 +837,6 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
     paradox = metrics["explanations"]["model_error"] + metrics["explanations"]["premise"]
     sections.append(Section("Results that look paradoxical", paradox or ["None found in this run."]))
     if layout:
-        failed = [r["claim"] for r in layout["claims"] if r["verdict"] != "holds"]
-        lost = _lost_claims(rows, layout["claims"])
         c = layout["case"]
         blocks = [f"The paper's vehicle has three thrusters (two surge, one heave) and none that pushes sideways. "
                   f"Run with them (`paper-layout`), the controlled case's sway force is unachievable: up to "
@@ -822,15 +844,13 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
                   f"error {c['peak_body_error_xy_m'] * 1e3:.3g} mm (epsilon {eps_mm:.2f} mm), peak end-effector "
                   f"deviation {c['peak_ee_deviation_m'] * 1e3:.3g} mm, yaw "
                   f"{math.degrees(c['peak_abs_yaw_rad']):.3g} deg. "
-                  + (f"**{len(failed)} of the {len(layout['claims'])} claims fail with it**: " + "; ".join(failed)
-                     + "." if failed else "All claims hold with it.")
-                  + (f" Of these, {len(lost)} hold with `{act}` actuators, so the layout is what breaks them: "
-                     + "; ".join(lost) + "." if lost else ""),
+                  + layout_failure_words(rows, layout["claims"], act),
                   Table(["claim", "measured with the paper's 3 thrusters", "verdict"], _claim_rows(layout["claims"]))]
         sections.append(Section("The paper's 3-thruster layout (measured finding)", blocks))
     case_rows = []
     for name, c in metrics["cases"].items():
         case_rows.append([name, f"{c['peak_abs_x_m'] * 1e3:.3g}", f"{c['peak_abs_y_m'] * 1e3:.3g}",
+                          f"{c['peak_body_error_x_m'] * 1e3:.3g}", f"{c['peak_body_error_y_m'] * 1e3:.3g}",
                           f"{math.degrees(c['peak_abs_yaw_rad']):.3g}", f"{c['peak_body_error_xy_m'] * 1e3:.3g}",
                           f"{c['peak_ee_deviation_m'] * 1e3:.3g}",
                           ", ".join(f"{c['max_abs_s'][a] / PAPER_PHI:.3g}" for a in AXES)])
@@ -839,8 +859,10 @@ def report_sections(metrics: dict, table=None) -> list[Section]:
     limits = (by_case.get("controlled") or {}).get("limits") or {
         "attitude_limit_rad": math.nan, "saturation_limit": math.nan}
     sections.append(Section("Cases", [Table(
-        ["case", "peak abs x [mm]", "peak abs y [mm]", "peak abs yaw [deg]", "peak body xy error [mm]",
+        ["case", "peak abs x, world [mm]", "peak abs y, world [mm]", "peak abs body x error [mm]",
+         "peak abs body y error [mm]", "peak abs yaw [deg]", "peak body xy error [mm]",
          "peak end-effector deviation [mm]", "max abs(s) / Phi [-] (surge, sway, yaw)"], case_rows),
+        world_and_body_words(metrics["cases"]),
         f"Run health (healthy: roll and pitch within {math.degrees(limits['attitude_limit_rad']):.4g} deg, no "
         f"thruster saturated more than {limits['saturation_limit'] * 100:.4g} % of the run; `docs/scenarios.md`): "
         f"{health}."]))

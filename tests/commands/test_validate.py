@@ -36,7 +36,8 @@ def test_text_report_of_the_paper_model(capsys):
     assert "surge  +103.6 / -103.6 N" in out and "yaw    +15.54 / -15.54 N m" in out   # 2 T, 0.3 T; T = 51.8 N
     assert "layout rank 4 of 6; cannot push in: roll, pitch" in out
     warnings = [line for line in out.splitlines() if line.startswith("warning:")]
-    assert len(warnings) == 2 and "surge effective mass" in warnings[0] and "[36, 44.44] kg" in warnings[0]
+    assert len(warnings) == 1 and "surge effective mass" in warnings[0] and "[36, 44.44] kg" in warnings[0]
+    assert "sway effective mass 50.87 kg outside [36, 44.44] kg" in warnings[0]
 
 
 def test_json_report(capsys):
@@ -48,7 +49,7 @@ def test_json_report(capsys):
     assert data["thrust"]["allocation_rank"] == 4 and data["thrust"]["missing_axes"] == ["roll", "pitch"]
     assert data["thrust"]["forward_N_or_Nm"]["sway"] == pytest.approx(51.8, abs=0.05)
     assert set(data["effective_inertia_kg_or_kgm2"]) == {"surge", "sway", "heave", "roll", "pitch", "yaw"}
-    assert len(data["warnings"]) == 2 and data["trim"]["pitch_rad"] == pytest.approx(0.0, abs=1e-12)
+    assert len(data["warnings"]) == 1 and "surge" in data["warnings"][0] and "sway" in data["warnings"][0] and data["trim"]["pitch_rad"] == pytest.approx(0.0, abs=1e-12)
 
 
 def test_offset_model_reports_its_trim_and_no_stable_attitude(tmp_path, capsys):
@@ -73,9 +74,27 @@ def test_layout_without_sway_is_named(tmp_path, capsys):
     (["--q", "0", "0"], "--q: expected 3 joint values (joints: joint1, joint2, joint3), found 2"),
     (["--q", "0", "nan", "0"], "--q: expected finite joint values"),
     (["--q", "0", "inf", "0"], "--q: expected finite joint values"),
-    (["--q", "0", "x", "0"], "argument --q: invalid float value: 'x'"),
+    (["--q", "0", "x", "0"], "--q: expected NAME=VALUE (a joint name and a number) or numbers in joint order, found 'x'"),
 ])
 def test_bad_q_one_line_exit_2(capsys, argv, expected):
     assert main(["validate", "paper", *argv]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and err.startswith("uvms: error: ") and expected in err
+
+
+def test_end_effector_is_named_as_the_model_file_names_it(capsys):
+    """The BlueROV2 Heavy + Alpha 5 file says ``end_effector: tool``: the summary says ``tool`` (the frame
+    between the jaw tips), and the body it is fixed in; the paper's DH end effector is a frame of its own."""
+    import uvms
+    from uvms.model.report import end_effector_name
+
+    assert main(["validate", "bluerov2_heavy_alpha5"]) == 0
+    assert "(end effector 'tool', fixed in body 'm1_link')" in capsys.readouterr().out
+    assert main(["validate", "bluerov2_heavy_alpha5", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["end_effector"] == "tool" and data["end_effector_body"] == "m1_link"
+    assert main(["validate", "paper"]) == 0
+    assert "(end effector 'end_effector', fixed in body 'link3')" in capsys.readouterr().out
+    model = uvms.load_model("bluerov2_heavy_alpha5")
+    assert end_effector_name(model.with_end_effector("jaws_base_link")) == "jaws_base_link"
+    assert end_effector_name(model.with_end_effector("m1_link")) == "m1_link"

@@ -127,10 +127,14 @@ def test_level_model_needs_no_ballast():
 
 
 def test_b_bounds_warning_uses_the_effective_mass():
-    """The paper's b bounds do not contain the BlueROV's effective masses (about 21 kg in surge): one line each."""
+    """The paper's b bounds do not contain the BlueROV's effective masses (about 21 kg in surge): one line naming
+    every axis, and the controllers that use the bounds."""
     result = uvms.trim(uvms.load_model("bluerov2_heavy_alpha5"))
-    assert len(result.warnings) == 3 and all(w.startswith("sliding-mode controller:") for w in result.warnings)
-    assert "[36, 44.44] kg" in result.warnings[0]
+    assert len(result.warnings) == 1 and result.warnings[0].startswith("sliding-mode controller: the paper's b bounds")
+    assert "surge effective mass 21.19 kg outside [36, 44.44] kg" in result.warnings[0]
+    assert "sway effective mass 21.43 kg outside [36, 44.44] kg" in result.warnings[0]
+    assert "yaw effective inertia 0.6374 kg m^2 outside [1.287, 1.5889] kg m^2" in result.warnings[0]
+    assert "used by smc-ab, smc-ne, smc-vehicle with b_source: fixed; not by pid, lqr" in result.warnings[0]
 
 
 def test_no_solution_is_one_line(vehicle):

@@ -91,11 +91,12 @@ def test_good_run_writes_results(short_run):
     assert sorted(p.name for p in out.parent.iterdir()) == ["case.yaml", "out"]  # no temporary leftovers
     table = pd.read_csv(out / "result.csv")
     expected = ["t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "p_rad_s", "q_rad_s", "r_rad_s",
-                "u_m_s", "v_m_s", "w_m_s", "q1_rad", "q2_rad", "q3_rad", "qd1_rad_s", "qd2_rad_s", "qd3_rad_s",
-                "tau1_Nm", "tau2_Nm", "tau3_Nm", "ee_x_m", "ee_y_m", "ee_z_m"]
+                "u_m_s", "v_m_s", "w_m_s", "q_joint1_rad", "q_joint2_rad", "q_joint3_rad", "qd_joint1_rad_s",
+                "qd_joint2_rad_s", "qd_joint3_rad_s", "tau_joint1_Nm", "tau_joint2_Nm", "tau_joint3_Nm",
+                "ee_x_m", "ee_y_m", "ee_z_m"]
     assert list(table.columns) == expected
     assert len(table) == 201 and table["t_s"].iloc[-1] == pytest.approx(0.2)
-    assert table["tau1_Nm"].eq(2.5).all() and table["q1_rad"].iloc[-1] > 0
+    assert table["tau_joint1_Nm"].eq(2.5).all() and table["q_joint1_rad"].iloc[-1] > 0
     summary = json.loads((out / "result.json").read_text())
     assert summary["complete"] is True and summary["message"] == ""
     assert summary["metadata"]["scenario"] == "short"

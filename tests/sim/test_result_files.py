@@ -32,7 +32,7 @@ def _damage_csv(folder, column, value, row=3):
     (folder / "result.csv").write_text("\n".join(lines) + "\n")
 
 
-@pytest.mark.parametrize("column, value", [("x_m", "abc"), ("t_s", "1.0.0"), ("q2_rad", "True"),
+@pytest.mark.parametrize("column, value", [("x_m", "abc"), ("t_s", "1.0.0"), ("q_joint2_rad", "True"),
                                            ("ee_y_m", "[1; 2]")])
 def test_text_in_a_numeric_column_is_one_line(run_copy, capsys, column, value):
     _damage_csv(run_copy, column, value)

@@ -61,9 +61,9 @@ def test_default_show_output_is_named_after_the_model(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("argv, message", [
     (["show", "nosuchmodel", "-o", "x.html"], "nosuchmodel"),
-    (["show", "paper", "--q", "0.1", "-o", "x.html"], "--q: expected 3 joint angles for model 'paper', found 1"),
+    (["show", "paper", "--q", "0.1", "-o", "x.html"], "--q: expected 3 joint values (joints: joint1, joint2, joint3), found 1"),
     (["show", "paper", "-o", "x.txt"], "x.txt: --output: expected a .html, .png, .pdf, .svg or .jpg file name"),
-    (["show", "paper", "--q", "nan", "0", "0", "-o", "x.html"], "--q: expected finite joint angles"),
+    (["show", "paper", "--q", "nan", "0", "0", "-o", "x.html"], "--q: expected finite joint values"),
     (["show", "paper", "-o", ""], "--output: expected a file name"),
     (["show", "paper", "--position", "0", "inf", "0", "-o", "x.png"], "--position: expected finite numbers"),
 ])
@@ -171,3 +171,29 @@ def test_animate_bad_input_is_one_line(synthetic_run, tmp_path, case, message):
     assert code == 2, err
     assert err.count("\n") == 1 and message in err and "Traceback" not in err
     assert not (tmp_path / "out.html").exists()
+
+
+def test_video_title_fits_the_frame(synthetic_run, tmp_path, monkeypatch):
+    """A long title (run name, model, thrust note) is broken into lines that fit the frame's width, not cut."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import uvms.view.animate as animate
+    from uvms.view import png
+
+    fig, _ = png.new_figure(size=(7.2, 6.4))
+    text = "a_rather_long_run_name_of_a_sweep (model bluerov2_heavy_alpha5), played at 2x; arrows: commanded " \
+           "thrust, longest 51.8 N"
+    title = animate.fitted_title(fig, text)
+    assert title.replace("\n", " ") == text and title.count("\n") >= 1
+    renderer = fig.canvas.get_renderer()
+    shown = fig.text(0, 0, title, fontsize="medium")
+    assert shown.get_window_extent(renderer).width <= fig.get_figwidth() * fig.dpi
+    titles = []
+    real = png.style_axes
+    monkeypatch.setattr(png, "style_axes", lambda ax, ranges, t: (titles.append(t), real(ax, ranges, t))[1])
+    code, _, err = run_cli(["animate", synthetic_run[0], "-o", tmp_path / "run.gif", "--fps", "1"])
+    assert code == 0, err
+    assert titles and all(len(t.splitlines()) >= 2 for t in titles)
+    head = titles[0].rsplit("\n", 1)[0]
+    assert animate.fitted_title(fig, head.replace("\n", " ")) == head     # what was drawn is the fitted title

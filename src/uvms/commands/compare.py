@@ -121,41 +121,38 @@ ROWS_SIX = (("world xy error [mm]", "peak_world_xy_error_mm", "{:.3g}"),
 """The error rows of a comparison on other axes (those of the held axes are shown)."""
 
 
-def run(args: argparse.Namespace) -> int:
-    """Run the comparison, print the table, optionally save JSON; 0 on success, 3 if a run diverged."""
-    import json
-    from pathlib import Path
+def replaced_controller(scenario) -> dict | None:
+    """The scenario file's own controller, which every case of the comparison replaces (``None``: the file has
+    none): its ``name``, ``period_s`` and ``parameters`` (the cases keep only its ``axes`` and period)."""
+    spec = scenario.spec.controller
+    if spec is None:
+        return None
+    return {"name": spec.name, "period_s": spec.period, "parameters": dict(spec.parameters)}
 
+
+def _replaced_note(scenario, args: argparse.Namespace) -> str:
+    """One sentence saying that the file's controller settings are replaced (``docs/controllers.md``)."""
+    replaced = replaced_controller(scenario)
+    if replaced is None:
+        return f"Scenario {scenario.name} has no controller of its own: each column runs its controller on it."
+    given = ", ".join(f"{k}: {v}" for k, v in replaced["parameters"].items()) or "defaults"
+    return (f"Each column's controller replaces the scenario's own ({replaced['name']}, {given}): only its axes and "
+            f"period are kept (period {args.period:g} s); every other setting is the column controller's default.")
+
+
+def print_table(table, args: argparse.Namespace, *, scenario, model):
+    """Print the comparison (``table``: :func:`uvms.control.compare.compare_controllers`'s) on stdout, every cell
+    whole: the console is as wide as the table needs, whatever the terminal (rich cuts cells to fit 80 columns
+    when stdout is not a terminal). Returns the console."""
     from rich.console import Console
     from rich.markup import escape
+    from rich.measure import Measurement
     from rich.table import Table
 
-    from uvms.control.compare import (
-        AXIS_COMMAND,
-        DEFAULT_CASES,
-        LQR_CASE,
-        PAPER_AXES,
-        compare_controllers,
-        is_paper,
-        scenario_axes,
-    )
+    from uvms.control.compare import AXIS_COMMAND, PAPER_AXES, is_paper, scenario_axes
     from uvms.control.smc import SlidingModeParameters
-    from uvms.sim.result import atomic_write_text
-    from uvms.sim.run import Actuation
 
-    scenario = _load(args)
-    _check(args, scenario)
-    axes = scenario_axes(scenario)
-    model = _model(args, scenario)
-    paper = is_paper(scenario)
-    actuation = Actuation() if args.actuators == "ideal" else None
-    console = Console(stderr=True)
-    with console.status("running") as status:
-        cases = DEFAULT_CASES + (LQR_CASE,) if paper and args.lqr else None
-        table = compare_controllers(model, cases, scenario=scenario, duration=args.duration, step=args.step,
-                                    period=args.period, hydro_scale=args.hydro_scale, actuation=actuation,
-                                    progress=lambda label: status.update(f"running {label}"))
-
+    axes, paper = scenario_axes(scenario), is_paper(scenario)
     three = set(axes) <= set(PAPER_AXES)
     inputs = "paper torques" if paper else f"scenario {scenario.name}"
     actuators = "ideal actuation" if args.actuators == "ideal" else f"actuators {scenario.spec.actuators}"
@@ -172,29 +169,64 @@ def run(args: argparse.Namespace) -> int:
     for record in records:
         state = "" if record["complete"] and record["healthy"] else " (diverged)" if not record["complete"] else \
             " (unhealthy)"
-        view.add_column(escape(record["case"]) + state, justify="right")
+        view.add_column(escape(record["case"]) + state, justify="right", no_wrap=True)
     for label, key, fmt in rows:
         view.add_row(escape(label), *["/".join(str(r[f"chatter_{c}"]) for c in chatter) if key is None
                                       else fmt.format(r[key]) for r in records])
-    out = Console()
+    probe = Console(width=10_000)
+    terminal = Console()
+    out = Console(width=max(Measurement.get(probe, probe.options, view).maximum,
+                            terminal.width if terminal.is_terminal else 80))
     out.print(view)
     if three:
         par = SlidingModeParameters()
         lam, phi = par.bandwidth[0], par.boundary_layer[0]          # the same on every paper axis
-        out.print(escape(f"Peak body-frame errors (Phi/lambda = {phi / lam * 1e3:.1f} mm with "
-                         f"the paper's values); peak |s| [m/s, rad/s] from the states with lambda = {lam:g}; "
-                         "RMS commands; chatter: sign changes of the command increments."))
+        note = (f"Peak body-frame errors (Phi/lambda = {phi / lam * 1e3:.1f} mm with "
+                f"the paper's values); peak |s| [m/s, rad/s] from the states with lambda = {lam:g}; "
+                "RMS commands; chatter: sign changes of the command increments.")
     else:
-        out.print(escape("Peak errors from the set point (initial position and yaw, level): world-frame xy, depth, "
-                         "roll, pitch, yaw; RMS commands of the held axes; chatter: sign changes of the command "
-                         "increments."))
+        note = ("Peak errors from the set point (initial position and yaw, level): world-frame xy, depth, "
+                "roll, pitch, yaw; RMS commands of the held axes; chatter: sign changes of the command "
+                "increments.")
+    out.print(note, markup=False, highlight=False)
+    out.print(_replaced_note(scenario, args), markup=False, highlight=False)
+    return out
 
+
+def run(args: argparse.Namespace) -> int:
+    """Run the comparison, print the table, optionally save JSON; 0 on success, 3 if a run diverged."""
+    import json
+    from pathlib import Path
+
+    from rich.console import Console
+
+    from uvms.control.compare import DEFAULT_CASES, LQR_CASE, compare_controllers, is_paper, scenario_axes
+    from uvms.sim.result import atomic_write_text
+    from uvms.sim.run import Actuation
+
+    scenario = _load(args)
+    _check(args, scenario)
+    axes = scenario_axes(scenario)
+    model = _model(args, scenario)
+    paper = is_paper(scenario)
+    actuation = Actuation() if args.actuators == "ideal" else None
+    console = Console(stderr=True)
+    with console.status("running") as status:
+        cases = DEFAULT_CASES + (LQR_CASE,) if paper and args.lqr else None
+        table = compare_controllers(model, cases, scenario=scenario, duration=args.duration, step=args.step,
+                                    period=args.period, hydro_scale=args.hydro_scale, actuation=actuation,
+                                    progress=lambda label: status.update(f"running {label}"))
+
+    out = print_table(table, args, scenario=scenario, model=model)
     if args.json:
         settings = {"scenario": scenario.name, "axes": list(axes), "model": model.name, "duration_s": args.duration,
                     "step_s": args.step, "period_s": args.period, "hydro_scale": args.hydro_scale,
                     "actuation": "ideal" if args.actuators == "ideal" else scenario.spec.actuators,
                     "joint_torques": "paper" if paper else "scenario"}
+        replaced = replaced_controller(scenario)
+        if replaced is not None:
+            settings["scenario_controller_replaced"] = replaced
         text = json.dumps({"settings": settings, "rows": table.to_dict("records")}, indent=2)
         atomic_write_text(Path(args.json), text + "\n")
-        out.print(escape(f"saved {args.json}"))
+        out.print(f"saved {args.json}", markup=False, highlight=False)
     return 0 if bool(table["complete"].all()) else 3

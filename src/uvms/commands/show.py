@@ -1,9 +1,11 @@
-"""``uvms show MODEL [--q Q1 ...] [-o FILE.html|FILE.png]``: the vehicle and arm in 3-D at a pose."""
+"""``uvms show MODEL [--q Q1 ... | --q NAME=VALUE ...] [-o FILE.html|FILE.png]``: the vehicle and arm in 3-D at a pose."""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
+
+from uvms.commands._options import add_q_argument, q_option
 
 NAME = "show"
 HELP = ("draw a model in 3-D at a pose: an interactive offline .html page (default MODEL.html) or a .png/.pdf/"
@@ -15,8 +17,7 @@ HTML_SUFFIXES = (".html", ".htm")
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the arguments of ``uvms show``."""
     parser.add_argument("model", metavar="MODEL", help="model YAML file, or a bundled model name (e.g. paper)")
-    parser.add_argument("--q", metavar="RAD", type=float, nargs="+", default=None,
-                        help="joint angles [rad], one per joint (default: all zero)")
+    add_q_argument(parser)
     parser.add_argument("--position", metavar="M", type=float, nargs=3, default=None,
                         help="vehicle position x y z in the world (north, east, down) [m] (default: 0 0 0)")
     parser.add_argument("--euler", metavar="RAD", type=float, nargs=3, default=None,
@@ -72,7 +73,8 @@ def run(args: argparse.Namespace) -> int:
             raise UvmsInputError(f"expected finite numbers, found {values}", None, option)
     from uvms.view import picture, show, state_at
 
-    state = state_at(model, State.from_euler(model, position=args.position, euler=args.euler), q=args.q)
+    q = q_option(model, args.q)
+    state = state_at(model, State.from_euler(model, position=args.position, euler=args.euler), q=q)
     if kind == "html":
         from uvms.view.plotly_html import write_html
 

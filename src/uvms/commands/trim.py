@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import argparse
 
+from uvms.commands._options import add_q_argument, q_option
+
 NAME = "trim"
 HELP = "the attitude a model rests at with its arm in a pose, and the ballast that levels it"
 
@@ -13,8 +15,7 @@ HELP = "the attitude a model rests at with its arm in a pose, and the ballast th
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the arguments of ``uvms trim``."""
     parser.add_argument("model", metavar="MODEL", help="model YAML file, URDF or xacro file, or a bundled model name")
-    parser.add_argument("--q", metavar="NAME=VALUE", nargs="+", action="extend", default=None,
-                        help="joint values [rad or m] by joint name (others zero), e.g. --q axis_d=0.4 axis_c=0.4")
+    add_q_argument(parser)
     parser.add_argument("--ballast", choices=("mass", "foam"), default="mass",
                         help="levelling ballast: a point mass [kg] (default) or buoyancy foam [m^3]")
     parser.add_argument("--foam-density", metavar="KG_M3", type=float, default=0.0,
@@ -30,29 +31,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print the trim as JSON (units in the key names)")
 
 
-def parse_joint_values(items: list[str] | None) -> dict[str, float] | None:
-    """``["NAME=VALUE", ...]`` as ``{name: value}``; a malformed item is one :class:`~uvms.errors.UvmsInputError`
-    line naming ``--q``."""
-    from uvms.errors import UvmsInputError
-
-    if items is None:
-        return None
-    values: dict[str, float] = {}
-    for item in items:
-        name, sep, text = item.partition("=")
-        try:
-            if not sep or not name:
-                raise ValueError
-            value = float(text)
-        except ValueError:
-            raise UvmsInputError(f"expected NAME=VALUE (a joint name and a number), found {item!r}",
-                                 path="--q") from None
-        if name in values:
-            raise UvmsInputError(f"joint {name!r} is given twice", path="--q")
-        values[name] = value
-    return values
-
-
 def run(args: argparse.Namespace) -> int:
     """Load the model, compute and print the trim."""
     from uvms.errors import UvmsInputError
@@ -60,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     from uvms.model.trim import MIN_ARM, trim
 
     model = load_model(args.model)
-    q = parse_joint_values(args.q)
+    q = q_option(model, args.q)
     region = None if args.region is None else [args.region[:3], args.region[3:]]
     try:
         result = trim(model, q, ballast=args.ballast, region=region, max_amount=args.max,

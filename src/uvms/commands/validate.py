@@ -1,11 +1,13 @@
-"""``uvms validate FILE_OR_NAME [--q Q1 ...] [--json]``: check a model file (YAML, or a URDF/xacro robot
-description), print a short summary and what a modeller needs next: mass and buoyancy, static moment and trim,
+"""``uvms validate FILE_OR_NAME [--q Q1 ... | --q NAME=VALUE ...] [--json]``: check a model file (YAML, or a
+URDF/xacro robot description), print a short summary and what a modeller needs next: mass and buoyancy, static moment and trim,
 thrust available per axis, thruster layout rank, and whether the sliding-mode controller's ``b`` bounds
 contain the model's effective inertia (every number from :func:`uvms.model.report.model_report`)."""
 
 from __future__ import annotations
 
 import argparse
+
+from uvms.commands._options import add_q_argument, q_option
 
 NAME = "validate"
 HELP = "check a model file, URDF or xacro (or a bundled model name), summarise it and report its statics"
@@ -15,31 +17,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the arguments of ``uvms validate``."""
     parser.add_argument("model", metavar="FILE_OR_NAME",
                         help="model YAML file, URDF (.urdf) or xacro (.xacro) file, or a bundled model name (paper)")
-    parser.add_argument("--q", metavar="VALUE", type=float, nargs="+", default=None,
-                        help="joint values [rad or m], one per joint in the model's joint order (default: all zero); "
-                             "give it after FILE_OR_NAME")
+    add_q_argument(parser)
     parser.add_argument("--json", action="store_true",
                         help="print the report as JSON (units in the key names) instead of text")
 
 
 def run(args: argparse.Namespace) -> int:
     """Load the model (errors surface as one-line :class:`~uvms.errors.UvmsInputError`), summarise and report."""
-    from uvms.errors import UvmsInputError
     from uvms.model import load_model
-    from uvms.model.report import model_report
+    from uvms.model.report import end_effector_name, model_report
 
     model = load_model(args.model)
-    try:
-        report = model_report(model, q=args.q)
-    except UvmsInputError as exc:
-        if exc.path == "q":
-            raise UvmsInputError(exc.message, None, "--q") from None
-        raise
+    report = model_report(model, q=q_option(model, args.q))
     if args.json:
         import json
 
         data = {"valid": True, "source": model.source, "joints": list(model.joint_names),
-                "frames": len(model.frames), "end_effector_body": model.body_names[model.ee_body],
+                "frames": len(model.frames), "end_effector": end_effector_name(model),
+                "end_effector_body": model.body_names[model.ee_body],
                 **report.to_dict()}
         print(json.dumps(data, indent=2, allow_nan=False))
         return 0
@@ -47,7 +42,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"  joints:               {model.n_joints}")
     if model.n_joints:
         print(f"  joint order (q):      {', '.join(model.joint_names)}")
-    print(f"  frames:               {len(model.frames)} (end effector on {model.body_names[model.ee_body]!r})")
+    print(f"  frames:               {len(model.frames)} (end effector {end_effector_name(model)!r}, fixed in body "
+          f"{model.body_names[model.ee_body]!r})")
     print(f"  thrusters:            {len(model.thrusters)}")
     print(report.table())
     return 0

@@ -242,6 +242,57 @@ class SlidingModeParameters:
                              self.waypoints)
 
 
+# ------------------------------------------------------------------------------------------ the b bounds' fit
+
+
+def fixed_bound_axes(parameters: SlidingModeParameters) -> tuple[str, ...]:
+    """The controlled axes whose ``b`` comes from fixed ``[b_min, b_max]`` bounds (``b_source = "fixed"`` and
+    bounds given): the axes whose guarantee (Eqs. 27-29) assumes the plant's effective inertia inside them."""
+    if parameters.b_source != "fixed":
+        return ()
+    return tuple(a for a in parameters.axes if parameters.b_bounds(a) is not None)
+
+
+def b_bounds_misses(parameters: SlidingModeParameters, inertia) -> str:
+    """``"surge effective mass 21.19 kg outside [36, 44.44] kg, ..."`` for every axis of :func:`fixed_bound_axes` whose
+    effective mass or inertia (``inertia``: (6,) in :data:`uvms.model.trim.AXES` order, kg and kg m^2) lies
+    outside its bounds; ``""`` when none does."""
+    from uvms.model.trim import AXES as INERTIA_AXES
+    from uvms.model.trim import INERTIA_UNITS
+
+    misses = []
+    for axis in fixed_bound_axes(parameters):
+        j = INERTIA_AXES.index(axis)
+        (lo, hi), value, unit = parameters.b_bounds(axis), float(inertia[j]), INERTIA_UNITS[j]
+        if not lo <= value <= hi:
+            kind = "mass" if unit == "kg" else "inertia"
+            misses.append(f"{axis} effective {kind} {value:.4g} {unit} outside [{lo:.6g}, {hi:.6g}] {unit}")
+    return ", ".join(misses)
+
+
+def warn_b_bounds(model, parameters: SlidingModeParameters) -> str | None:
+    """Warn (one :class:`UserWarning` line) when the controller relies on fixed ``b`` bounds that miss the
+    plant's effective mass or inertia (:func:`uvms.model.trim.effective_inertia`, arm at ``q = 0``); the
+    text names no controller, so the three sliding-mode controllers of one comparison warn once (Python's
+    default filter shows a warning once per text and place). Returns the
+    line, or ``None`` (every bound contains the plant, or no axis uses fixed bounds: ``pid`` and ``lqr`` never
+    call this)."""
+    if model is None or not fixed_bound_axes(parameters):
+        return None
+    import warnings
+
+    from uvms.model.trim import effective_inertia
+
+    misses = b_bounds_misses(parameters, effective_inertia(model, np.zeros(model.n_joints)))
+    if not misses:
+        return None
+    line = (f"sliding-mode controller: its b bounds miss model {model.name!r} (arm at q = 0): {misses} (paper "
+            "Eqs. 27-29 assume it inside); give controller.parameters.b_<axis> bounds that contain it, or "
+            "b_source: model")
+    warnings.warn(line, UserWarning, stacklevel=2)
+    return line
+
+
 # ------------------------------------------------------------------------------------------ the controller
 
 
@@ -352,9 +403,13 @@ class SlidingModeController(CompiledController):
         return gains
 
     def compiled(self, n_updates: int):
+        """The controller's :class:`~uvms.control.kernels.ControllerData`, built for each run (after its inputs
+        are checked): the moment the controller is used, so the b bounds' fit is checked here
+        (:func:`warn_b_bounds`)."""
         from uvms.control import kernels as ck
 
         par = self.parameters
+        warn_b_bounds(self.plant, par)
         return ck.controller_data(kind=ck.SLIDING, n_joints=self.plant.n_joints, period=self.period,
                                   axes=slots(self.axes), gains=self.gain_table(), targets=par.targets(),
                                   n_signals=len(self.signal_names),

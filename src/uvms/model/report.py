@@ -255,6 +255,20 @@ def missing_axes(Lambda: np.ndarray) -> tuple[int, tuple[str, ...]]:
     return rank, tuple(a for a, row in zip(AXES, WRENCH_ROW) if float(np.linalg.norm(N[row])) > 1e-8)
 
 
+def end_effector_name(model) -> str:
+    """The name the model file gives the end effector: the named frame it was placed at (a URDF model's
+    ``end_effector: tool``, or the deepest link by default), or ``"end_effector"`` for a frame of its own (the
+    YAML arm's DH end effector). The model keeps a copy of that frame under ``"end_effector"``, so this is the
+    first other frame fixed in the same body at the same pose (frames that coincide, such as two jaw links on
+    one fixed joint, are one frame under two names: the first, as the URDF's deepest-link default takes it)."""
+    from uvms.model.model import END_EFFECTOR
+
+    ee = model.frame(END_EFFECTOR)
+    same = [f.name for f in model.frames if f.name != END_EFFECTOR and f.body == ee.body
+            and np.array_equal(f.position, ee.position) and np.array_equal(f.rotation, ee.rotation)]
+    return same[0] if same else END_EFFECTOR
+
+
 def model_report(model, q=None, *, controller=None) -> ModelReport:
     """The statics, actuation and controller-fit report of ``model`` at rest, arm at ``q`` (module docstring).
 

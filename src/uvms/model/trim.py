@@ -174,21 +174,17 @@ def effective_inertia(model, q: np.ndarray) -> np.ndarray:
 
 def b_bounds_check(inertia: np.ndarray, controller=None) -> tuple[dict[str, tuple[float, float]], tuple[str, ...]]:
     """The sliding-mode ``b`` bounds per controlled axis (``controller``: a
-    :class:`uvms.control.smc.SlidingModeParameters`, default the paper's) and one warning line per axis whose
-    effective inertia (:func:`effective_inertia`) lies outside them."""
-    from uvms.control.smc import SlidingModeParameters
+    :class:`uvms.control.smc.SlidingModeParameters`, default the paper's) and at most one warning line naming
+    every axis whose effective inertia (:func:`effective_inertia`) lies outside them (only the sliding-mode
+    controllers with fixed bounds use them: :func:`uvms.control.smc.b_bounds_misses`)."""
+    from uvms.control.smc import SlidingModeParameters, b_bounds_misses
 
     params = controller if controller is not None else SlidingModeParameters()
     bounds = {axis: (float(lo), float(hi)) for axis, (lo, hi) in zip(CONTROLLED_AXES, params.b_limits())}
-    warnings = []
-    for axis, (lo, hi) in bounds.items():
-        j = AXES.index(axis)
-        value, unit = float(inertia[j]), INERTIA_UNITS[j]
-        if not lo <= value <= hi:
-            warnings.append(f"sliding-mode controller: {axis} effective {'mass' if unit == 'kg' else 'inertia'} "
-                            f"{value:.4g} {unit} is outside its b bounds [{lo:.6g}, {hi:.6g}] {unit} "
-                            f"(paper Eqs. 27-29 assume it inside)")
-    return bounds, tuple(warnings)
+    misses = b_bounds_misses(params, inertia)
+    who = "the paper's b bounds" if controller is None else "its b bounds"
+    return bounds, ((f"sliding-mode controller: {who} (used by smc-ab, smc-ne, smc-vehicle with b_source: fixed; "
+                     f"not by pid, lqr) miss {misses} (paper Eqs. 27-29 assume it inside)",) if misses else ())
 
 
 # ------------------------------------------------------------------------------------------------ ballast

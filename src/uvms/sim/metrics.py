@@ -26,7 +26,8 @@ Named metrics (errors relative to the initial pose, the paper's Figures 5-6; att
 
 ``<statistic>_<series>`` applies a statistic (``max_abs``, ``rms``, ``mean``, ``final``, ``sign_changes``) to
 a series: a column of :meth:`Result.columns <uvms.sim.result.Result.columns>` (``x_m``, ``yaw_rad``, ``u_m_s``,
-``q1_rad``, ``tau1_Nm``, ``ee_x_m`` ...), a logged signal (``s_surge``, ``command_X``, ``thrust_cmd_sway``,
+``q_joint1_rad``, ``tau_joint1_Nm``, ``ee_x_m`` ...: joints by name, :mod:`uvms.sim.columns`; an older file's
+``q1_rad`` also works), a logged signal (``s_surge``, ``command_X``, ``thrust_cmd_sway``,
 ``unachieved_N`` ...), or a derived series: ``axis_error_<axis>`` and ``surface_<axis>`` for ``axis`` in
 surge, sway, yaw (:meth:`Result.axis_errors <uvms.sim.result.Result.axis_errors>` and the sliding variable
 ``s = vel + lambda e`` of the paper's Eq. 24 with the paper's lambda, computed from the states for any
@@ -166,6 +167,19 @@ class Series:
 
         return self._once("health", lambda: run_health(self.result))
 
+    def _joint_series(self, name: str) -> np.ndarray | None:
+        """A joint column by its name (``q_<joint>_rad`` ..., :mod:`uvms.sim.columns`) or by an older file's
+        numbered name (``q1_rad``, joint order), else ``None``."""
+        from uvms.sim.columns import legacy_alias
+
+        r = self.result
+        values = {"q": r.q, "qd": r.qd, "tau": r.joint_torques}
+        for kind, labels in zip(("q", "qd", "tau"), r.joint_columns()):
+            if name in labels:
+                return np.asarray(values[kind][:, labels.index(name)], dtype=float)
+        alias = legacy_alias(name, r.n_joints)
+        return None if alias is None else np.asarray(values[alias[0]][:, alias[1]], dtype=float)
+
     def get(self, name: str) -> np.ndarray:
         """A series by its :meth:`Result.columns` name, signal name or derived name (``KeyError`` if none)."""
         r = self.result
@@ -186,11 +200,9 @@ class Series:
             fixed[f"surface_{a}"] = lambda k=k: self.axis()["s"][:, k]
         if name in fixed:
             return np.asarray(fixed[name](), dtype=float)
-        match = re.fullmatch(r"(q|qd|tau)(\d+)_(rad|rad_s|Nm)", name)
-        if match and {"q": "rad", "qd": "rad_s", "tau": "Nm"}[match[1]] == match[3]:
-            j = int(match[2]) - 1
-            if 0 <= j < r.n_joints:
-                return np.asarray({"q": r.q, "qd": r.qd, "tau": r.joint_torques}[match[1]][:, j], dtype=float)
+        joint = self._joint_series(name)
+        if joint is not None:
+            return joint
         match = re.fullmatch(r"actuator(\d+)", name)
         if match and int(match[1]) < r.actuator.shape[1]:
             return np.asarray(r.actuator[:, int(match[1])], dtype=float)

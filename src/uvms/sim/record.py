@@ -40,14 +40,65 @@ def versions() -> dict[str, str]:
             "numba_version": numba.__version__}
 
 
+RK4_STABILITY = 2.785
+"""RK4's stability limit on the negative real axis: ``dx/dt = -x / tau`` stays bounded for ``h <= 2.785 tau``."""
+
+
+def stiff_joint(model, h: float, q=None) -> tuple[int, float, float, float] | None:
+    """The joint whose damping and regularised friction are too stiff for RK4 at step ``h`` [s], as
+    ``(index, inertia J, time constant tau [s], least friction_speed that keeps it stable)``, or ``None``.
+
+    Below ``v_s`` the joint law ``tau_p = -b qd - F_c clip(qd / v_s, -1, 1)`` (``docs/models.md``, "Joint damping
+    and friction") is a viscous law of slope ``c = b + F_c / v_s``; with ``J = 1 / (M^-1)_jj`` the least inertia
+    the joint drives (every other coordinate free; ``M`` at ``q``, default zeros) its time constant is
+    ``tau = J / c``, and RK4 is unstable for ``h > 2.785 tau`` (:data:`RK4_STABILITY`). The stiffest such joint
+    is named; the friction speed returned makes ``tau >= h`` (``v_s >= F_c / (J / h - b)``; ``inf`` when the
+    damping alone is too stiff)."""
+    from uvms.dynamics.api import mass_matrix
+    from uvms.state import State
+
+    n = model.n_joints
+    damping, friction = np.asarray(model.joint_damping, float), np.asarray(model.joint_friction, float)
+    c = damping + friction / np.asarray(model.joint_friction_speed, float)
+    if n == 0 or not np.any(c > 0):
+        return None
+    try:
+        inverse = np.linalg.inv(mass_matrix(model, State.from_euler(model, q=np.zeros(n) if q is None else q)))
+    except np.linalg.LinAlgError:
+        return None
+    J = 1.0 / np.diag(inverse)[6:]
+    tau = np.divide(J, c, out=np.full(n, np.inf), where=c > 0)
+    j = int(np.argmin(tau))
+    if not h > RK4_STABILITY * tau[j]:
+        return None
+    room = J[j] / h - damping[j]
+    return j, float(J[j]), float(tau[j]), float(friction[j] / room) if room > 0 else float("inf")
+
+
+def divergence_hint(model, h: float) -> str:
+    """What to change after a divergence at step ``h`` [s]: the stiff joint and its ``friction_speed``
+    (:func:`stiff_joint`) when there is one, otherwise a smaller step."""
+    stiff = stiff_joint(model, h)
+    if stiff is None:
+        return f"try a smaller step (now {h:g} s)"
+    j, J, tau, speed = stiff
+    name = model.joint_names[j]
+    key = f"joints.{name}"
+    fix = (f"raise {key}.friction_speed in the model file to at least {speed:.3g} (or lower {key}.friction), "
+           if np.isfinite(speed) else f"lower {key}.damping in the model file, ")
+    return (f"joint {name!r} is too stiff for the step {h:g} s: friction {float(model.joint_friction[j]):g} over "
+            f"friction_speed {float(model.joint_friction_speed[j]):g} plus damping {float(model.joint_damping[j]):g} "
+            f"on an inertia of {J:.3g} give a time constant of {tau:.3g} s, and RK4 needs a step below "
+            f"{RK4_STABILITY:g} times it: {fix}or take a step below {RK4_STABILITY * tau:.3g} s")
+
+
 def divergence_message(plan, outcome) -> str:
-    """The one-line reason a run stopped early."""
+    """The one-line reason a run stopped early, with :func:`divergence_hint`."""
     h = plan.timing.h
     idx = abs(outcome.code) - 1
     what = outcome.reason or ("is not finite" if outcome.code < 0 else "left its sane range")
     quantity = "" if outcome.reason else f"{plan.layout.quantity_name(idx)} "
-    return (f"simulation diverged at t = {outcome.done * h:.4g} s: {quantity}{what}; "
-            f"try a smaller step (now {h:g} s)")
+    return f"simulation diverged at t = {outcome.done * h:.4g} s: {quantity}{what}; {divergence_hint(plan.model, h)}"
 
 
 def result_of(plan, outcome, log, wall0: float) -> Result:
@@ -74,7 +125,8 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
     end_effector_path(plan.model.kernel, np.ascontiguousarray(out_x), ee)
     meta = {"integrator": plan.integrator.name, "step_s": timing.h, "duration_s": timing.duration,
             "fixed_base": plan.fixed_base,
-            "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name, **versions(),
+            "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name,
+            "joint_names": list(plan.model.joint_names), "joint_types": list(plan.model.joint_type), **versions(),
             **actuation_metadata(plan), **set_point_metadata(plan), **(plan.recording.metadata or {})}
     report_joint_limits(plan.model, out_t, out_x, out_tau, meta)
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,

@@ -45,7 +45,8 @@ class Result:
         joint_torques: (K, n) applied joint torques [N m].
         signals: controller and actuator signals, name -> (K,) array (e.g. ``s_surge``, ``command_X``).
         complete: False if the run stopped early (divergence); ``message`` says why.
-        metadata: run metadata (versions, scenario hash, wall time, integrator, step).
+        metadata: run metadata (versions, scenario hash, wall time, integrator, step; the model's
+            ``joint_names`` and ``joint_types``, which name the joint columns: :mod:`uvms.sim.columns`).
     """
 
     time: np.ndarray
@@ -106,6 +107,21 @@ class Result:
     def actuator(self) -> np.ndarray:
         return self._slice("actuator")
 
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """The model's joint names (``metadata["joint_names"]``; ``joint1 ...`` when the run does not say)."""
+        from uvms.sim.columns import default_joint_names
+
+        names = self.metadata.get("joint_names")
+        return tuple(map(str, names)) if names and len(names) == self.n_joints else default_joint_names(self.n_joints)
+
+    def joint_columns(self):
+        """The :class:`~uvms.sim.columns.JointColumns` of this run (``q_<joint>_rad`` ..., by joint name)."""
+        from uvms.sim.columns import joint_columns
+
+        types = self.metadata.get("joint_types")
+        return joint_columns(self.joint_names, types if types and len(types) == self.n_joints else None)
+
     def body_frame_error(self, position_ref=None) -> np.ndarray:
         """(K, 3) vehicle position error from ``position_ref`` (default: the initial position), in the
         vehicle's body axes ``R^T (p - p_ref)`` [m] (the paper's Figures 5-6)."""
@@ -147,12 +163,10 @@ class Result:
             cols[f"{a}_rad_s"] = self.nu[:, k]
         for k, a in enumerate("uvw"):
             cols[f"{a}_m_s"] = self.nu[:, 3 + k]
-        for j in range(self.n_joints):
-            cols[f"q{j + 1}_rad"] = self.q[:, j]
-        for j in range(self.n_joints):
-            cols[f"qd{j + 1}_rad_s"] = self.qd[:, j]
-        for j in range(self.n_joints):
-            cols[f"tau{j + 1}_Nm"] = self.joint_torques[:, j]
+        names = self.joint_columns()                  # q_<joint>_rad ... (uvms.sim.columns)
+        for values, labels in ((self.q, names.q), (self.qd, names.qd), (self.joint_torques, names.tau)):
+            for j, label in enumerate(labels):
+                cols[label] = values[:, j]
         for k, a in enumerate("xyz"):
             cols[f"ee_{a}_m"] = self.end_effector[:, k]
         for k in range(self.actuator.shape[1]):
@@ -228,12 +242,16 @@ class Result:
 
         The orientation is rebuilt from the saved ZYX Euler angles (the quaternion itself is not saved);
         series a table lacks (an older file) are zero, the end effector NaN. Unknown columns become
-        ``signals``. A missing or damaged file is a one-line :class:`~uvms.errors.UvmsInputError`.
+        ``signals``. The joints are the table's ``q_<joint>_rad`` (or ``_m``) columns in order, and an older
+        file's numbered ``q1_rad ...`` columns are read as joints 1, 2, ... (:func:`uvms.sim.columns.table_joints`);
+        the run's ``joint_names`` come from its metadata. A missing or damaged file is a one-line
+        :class:`~uvms.errors.UvmsInputError`.
         """
         import re
 
         check_result_files(directory, name)          # sizes and nesting: refused before anything heavy
         from uvms.rotations import quaternion_from_euler
+        from uvms.sim.columns import table_joints
 
         table = load_result_table(directory, name)
         summary = load_result_summary(directory, name)
@@ -245,22 +263,22 @@ class Result:
         def columns(labels: list[str], default: float = 0.0) -> np.ndarray:
             return np.column_stack([column(c, default) for c in labels]) if labels else np.zeros((K, 0))
 
-        n = sum(1 for c in table.columns if re.fullmatch(r"q\d+_rad", c))
+        _, joint_cols = table_joints(table.columns)
+        n = len(joint_cols.q)
         n_act = sum(1 for c in table.columns if re.fullmatch(r"actuator\d+", c))
         euler = columns([f"{a}_rad" for a in ("roll", "pitch", "yaw")])
         quaternion = np.array([quaternion_from_euler(e) for e in euler]).reshape(K, 4)
         parts = [columns([f"{a}_m" for a in "xyz"]), quaternion,
                  columns([f"{a}_rad_s" for a in "pqr"] + [f"{a}_m_s" for a in "uvw"]),
-                 columns([f"q{j + 1}_rad" for j in range(n)]), columns([f"qd{j + 1}_rad_s" for j in range(n)]),
+                 columns(list(joint_cols.q)), columns(list(joint_cols.qd)),
                  columns([f"actuator{k}" for k in range(n_act)])]
         known = {"t_s"} | {f"{a}_m" for a in "xyz"} | {f"{a}_rad" for a in ("roll", "pitch", "yaw")} | {
-            f"{a}_rad_s" for a in "pqr"} | {f"{a}_m_s" for a in "uvw"} | {f"ee_{a}_m" for a in "xyz"} | {
-            f"q{j + 1}_rad" for j in range(n)} | {f"qd{j + 1}_rad_s" for j in range(n)} | {
-            f"tau{j + 1}_Nm" for j in range(n)} | {f"actuator{k}" for k in range(n_act)}
+            f"{a}_rad_s" for a in "pqr"} | {f"{a}_m_s" for a in "uvw"} | {f"ee_{a}_m" for a in "xyz"} | set(
+            joint_cols.all()) | {f"actuator{k}" for k in range(n_act)}
         result = cls(
             time=column("t_s"), states=np.hstack(parts), n_joints=n,
             end_effector=columns([f"ee_{a}_m" for a in "xyz"], np.nan),
-            joint_torques=columns([f"tau{j + 1}_Nm" for j in range(n)]),
+            joint_torques=columns(list(joint_cols.tau)),
             signals={c: table[c].to_numpy(dtype=float) for c in table.columns if c not in known},
             complete=bool(summary.get("complete", True)), message=str(summary.get("message") or ""),
             metadata=dict(summary.get("metadata") or {}))

@@ -145,8 +145,10 @@ class Simulator:
             from uvms.errors import SimulationDiverged
 
             what = "is not finite" if code < 0 else "left its sane range"
+            from uvms.sim.record import divergence_hint
+
             raise SimulationDiverged(self.time, f"{self._plan.layout.quantity_name(abs(code) - 1)} {what}",
-                                     f"try a smaller step (now {self._timing.h:g} s)")
+                                     divergence_hint(self._plan.model, self._timing.h))
         return self.state
 
 

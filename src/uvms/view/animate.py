@@ -169,6 +169,29 @@ def ffmpeg_available() -> bool:
     return bool(FFMpegWriter.isAvailable())
 
 
+def fitted_title(fig, text: str, *, fontsize="medium", share: float = 0.94) -> str:
+    """``text`` broken at spaces into lines no wider than ``share`` of the figure's width (measured with the
+    figure's renderer; the ratio does not depend on the dpi a video is written at): a video frame has no room
+    beyond its edges, so a long title would be cut there."""
+    import textwrap
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = fig.canvas if hasattr(fig.canvas, "get_renderer") else FigureCanvasAgg(fig)
+    renderer = canvas.get_renderer()
+    room = share * fig.get_figwidth() * fig.dpi
+    probe = fig.text(0, 0, "", fontsize=fontsize)
+    try:
+        for width in range(len(text), 9, -1):
+            lines = textwrap.fill(text, width, break_long_words=False)
+            probe.set_text(lines)
+            if probe.get_window_extent(renderer).width <= room:
+                return lines
+        return textwrap.fill(text, 10, break_long_words=False)
+    finally:
+        probe.remove()
+
+
 def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -> Path:
     """Write the replay as an mp4 (matplotlib's FFMpegWriter: needs the ``ffmpeg`` program) or a gif
     (PillowWriter), through a temporary file renamed into place."""
@@ -190,6 +213,7 @@ def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -
         raise UvmsInputError(f"expected a {' or '.join(VIDEO_SUFFIXES)} file name", str(path), option)
     ranges = rp.ranges()
     fig, ax = png.new_figure(size=(7.2, 6.4))
+    title = fitted_title(fig, rp.title)
     with naming(path):
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix, dir=path.parent)
@@ -202,7 +226,7 @@ def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -
                     png.draw_target(ax, rp.scene, rp.target)
                     png.draw_trails(ax, rp.vehicle_path[: k + 1], rp.ee_path[: k + 1])
                     png.draw_snapshot(ax, rp.scene, snap)
-                    png.style_axes(ax, ranges, f"{rp.title}\nt = {rp.times[k]:.2f} s")
+                    png.style_axes(ax, ranges, f"{title}\nt = {rp.times[k]:.2f} s")
                     writer.grab_frame()
             publish(tmp, path)
         except BaseException:
