@@ -136,13 +136,61 @@ def _changed(folder: Path, name: str, digests: dict) -> bool:
         return True
 
 
+WRITTEN_FILES = "written-files.json"
+"""The user's record of single files uvms wrote outside its own folders (``uvms show`` into the working
+folder): ``{absolute path: SHA-256}`` in ``<cache home>/uvms/`` (``XDG_CACHE_HOME`` or ``~/.cache``)."""
+MAX_WRITTEN_FILES = 1000
+"""Most files :data:`WRITTEN_FILES` remembers (the oldest are forgotten: such a file then counts as the user's)."""
+
+
+def _written_files_path() -> Path:
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "uvms" / WRITTEN_FILES
+
+
+def _written_files() -> dict[str, str]:
+    """:data:`WRITTEN_FILES` as read (empty when missing, unreadable or not as uvms writes it)."""
+    from uvms.errors import UvmsInputError
+    from uvms.safe_json import read_json
+
+    try:
+        data = read_json(_written_files_path(), max_bytes=MARKER_MAX_BYTES, max_depth=2)
+    except (UvmsInputError, OSError):
+        return {}
+    if not isinstance(data, dict):
+        return {}
+    return {k: v for k, v in data.items() if isinstance(k, str) and isinstance(v, str)}
+
+
+def _remember_written(path: Path) -> None:
+    """Add ``path`` (a file uvms just wrote where no marker is) to :data:`WRITTEN_FILES`; a cache home that
+    cannot be written only means the next default output there needs ``--force``."""
+    record = _written_files()
+    record.pop(str(path), None)
+    record[str(path)] = file_digest(path)
+    record = dict(list(record.items())[-MAX_WRITTEN_FILES:])
+    target = _written_files_path()
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(target, json.dumps(record, indent=0, sort_keys=False) + "\n")
+    except OSError:
+        pass
+
+
 def written_by_uvms(path) -> bool:
     """Whether the existing file ``path`` is one uvms wrote and nobody changed since: the :data:`MARKER` of its
-    folder lists it with the SHA-256 of its present content."""
+    folder lists it with the SHA-256 of its present content, or (a file outside uvms's folders) the user's
+    :data:`WRITTEN_FILES` does."""
     path = Path(path).absolute()
     data = _marker(path.parent)
-    return data is not None and path.name in data["files"] and not _changed(path.parent, path.name,
-                                                                            data["sha256"])
+    if data is not None:
+        return path.name in data["files"] and not _changed(path.parent, path.name, data["sha256"])
+    recorded = _written_files().get(str(path))
+    if recorded is None or path.is_symlink() or not path.is_file():
+        return False
+    try:
+        return file_digest(path) == recorded
+    except OSError:
+        return False
 
 
 def check_replaceable(folder, option: str = "--output", *, force: bool = False) -> None:
@@ -229,11 +277,14 @@ def check_file_output(path, option: str = "--output", *, named: bool, force: boo
 def record_written(path) -> None:
     """Add ``path``, a file uvms just wrote, with its SHA-256 to the :data:`MARKER` of the uvms folder it lies
     in (a figure that ``uvms plot`` draws into a run folder), so that the folder may still be replaced by a
-    rerun. Call it only when :func:`check_file_output` said so; a folder without a marker gets none."""
+    rerun. Call it only when :func:`check_file_output` said so; a folder without a marker gets none: the file
+    is remembered in the user's :data:`WRITTEN_FILES` instead, so that the same command may replace it again
+    while nobody changed it."""
     path = Path(path).absolute()
     folder = path.parent
     data = _marker(folder)
     if data is None:
+        _remember_written(path)
         return
     data["files"] = sorted(set(data["files"]) | {path.name})
     data["sha256"] = {**data["sha256"], path.name: file_digest(path)}

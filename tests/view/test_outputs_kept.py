@@ -301,3 +301,24 @@ def test_a_listed_fifo_is_the_users_and_never_read(tmp_path, paper):
         check_destination(run, "-o", kind="replaced folder")
     assert not written_by_uvms(run / "pipe")
     assert time.perf_counter() - start < 1.0
+
+
+def test_show_replaces_its_own_default_output_until_the_user_changes_it(tmp_path, monkeypatch):
+    """A default output in a folder without a marker (the working folder) is remembered in the user's cache
+    (``uvms.output.WRITTEN_FILES``) with its digest: the same command replaces it again, an edited one is kept."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    work = tmp_path / "work"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    code, _, err = run_cli(["show", "paper"])
+    assert code == 0, err
+    first = (work / "paper.html").read_text()
+    code, _, err = run_cli(["show", "paper"])                  # uvms's own file, unchanged: replaced
+    assert code == 0, err
+    assert sorted(p.name for p in work.iterdir()) == ["paper.html"]
+    (work / "paper.html").write_text(first + "<!-- my notes -->")
+    code, _, err = run_cli(["show", "paper"])                  # changed since: the user's now
+    _one_line_exit_2(code, err, "paper.html: --output: exists and uvms did not write it")
+    assert (work / "paper.html").read_text().endswith("<!-- my notes -->")
+    record = json.loads((tmp_path / "cache" / "uvms" / "written-files.json").read_text())
+    assert list(record) == [str(work / "paper.html")]
