@@ -69,7 +69,7 @@ def q_option(model, items: list[str] | None):
         UvmsInputError: one line naming ``--q`` (module docstring).
     """
     from uvms.errors import UvmsInputError
-    from uvms.model.trim import joint_values
+    from uvms.analysis.trim import joint_values
 
     values = split_q_items(items)
     if values is None:

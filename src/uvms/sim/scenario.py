@@ -389,7 +389,7 @@ class Scenario:
 
     def initial_state(self) -> State:
         """The file's initial state; with ``trimmed: true`` its roll and pitch are the rest attitude of the
-        model with the arm at ``q`` (:func:`uvms.model.trim.trimmed_state`, ``docs/scenarios.md``).
+        model with the arm at ``q`` (:func:`uvms.analysis.trim.trimmed_state`, ``docs/scenarios.md``).
 
         Raises:
             UvmsInputError: ``trimmed: true`` and the system has no stable rest attitude (one line).
@@ -397,7 +397,7 @@ class Scenario:
         s = self.spec.initial_state
         euler = s.euler
         if s.trimmed:
-            from uvms.model.trim import trimmed_state
+            from uvms.analysis.trim import trimmed_state
 
             try:
                 rest = trimmed_state(self.model, s.q, position=s.position, yaw=s.euler[2])
