@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import uvms
-from uvms.errors import UvmsInputError
 from uvms.analysis.report import AXES, model_report
+from uvms.errors import UvmsInputError
 from uvms.thrusters.healey import HealeyParameters
 from uvms.thrusters.ideal import IdealParameters
 from uvms.thrusters.layouts import Thruster

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import uvms
-from uvms.errors import UvmsInputError
 from uvms.analysis.trim import level_ballast, statics, trimmed_state, with_ballast
+from uvms.errors import UvmsInputError
 
 G = 9.81
 RHO = 1000.0

@@ -33,9 +33,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Load the model, compute and print the trim."""
+    from uvms.analysis.trim import MIN_ARM, trim
     from uvms.errors import UvmsInputError
     from uvms.model import load_model
-    from uvms.analysis.trim import MIN_ARM, trim
 
     model = load_model(args.model)
     q = q_option(model, args.q)

@@ -24,8 +24,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Load the model (errors surface as one-line :class:`~uvms.errors.UvmsInputError`), summarise and report."""
-    from uvms.model import load_model
     from uvms.analysis.report import end_effector_name, model_report
+    from uvms.model import load_model
 
     model = load_model(args.model)
     report = model_report(model, q=q_option(model, args.q))

@@ -22,6 +22,8 @@ import numpy as np
 
 from uvms.control.compare import IMU_NOISE
 from uvms.control.smc import SlidingModeParameters
+from uvms.safe_yaml import read_yaml_mapping
+from uvms.sim.scenario import ScenarioSpec, resolve_scenario_path
 
 _PAPER = SlidingModeParameters()
 """The paper's controller values: the defaults of the sliding-mode parameters, their one definition."""
@@ -49,16 +51,13 @@ boundary layer (Phi / 100)."""
 
 def _case_spec(case: str):
     """The validated content of a case's scenario file (the schema only: its model is not loaded)."""
-    from uvms.safe_yaml import read_yaml_mapping
-    from uvms.sim.scenario import ScenarioSpec, resolve_scenario_path
-
     return ScenarioSpec.model_validate(read_yaml_mapping(resolve_scenario_path(CASE_SCENARIOS[case]),
                                                          "scenario fields"))
 
 
 _CONTROLLED = _case_spec("controlled")
 DURATION = _CONTROLLED.duration
-"""Duration of every case [s]: the controlled case's scenario file's value (read, never re-typed)."""
+"""Duration [s] of the controlled case: its scenario file's value (read, never re-typed; the same in every case)."""
 STEP = _CONTROLLED.step
 """RK4 step [s], from the same file."""
 CONTROL_PERIOD = _CONTROLLED.controller.period
