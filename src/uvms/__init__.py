@@ -54,8 +54,8 @@ _EXPORTS = {
     "TorqueSchedule": "uvms.sim.inputs",
     "hydrodynamic_wrenches": "uvms.dynamics.inspect",
     "show": "uvms.view",
-    "trim": "uvms.model.trim",
-    "trimmed_state": "uvms.model.trim",
+    "trim": "uvms.analysis.trim",
+    "trimmed_state": "uvms.analysis.trim",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]

@@ -86,7 +86,7 @@ def test_end_effector_is_named_as_the_model_file_names_it(capsys):
     """The BlueROV2 Heavy + Alpha 5 file says ``end_effector: tool``: the summary says ``tool`` (the frame
     between the jaw tips), and the body it is fixed in; the paper's DH end effector is a frame of its own."""
     import uvms
-    from uvms.model.report import end_effector_name
+    from uvms.analysis.report import end_effector_name
 
     assert main(["validate", "bluerov2_heavy_alpha5"]) == 0
     assert "(end effector 'tool', fixed in body 'm1_link')" in capsys.readouterr().out

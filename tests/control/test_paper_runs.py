@@ -39,7 +39,7 @@ def test_compare_runs_the_scenario_file_with_ideal_actuation():
 def test_reproduce_runs_the_scenario_files():
     """The report's controlled case with Healey thrusters (``--actuators healey``: the paper layout with a sway
     thruster) is ``uvms run paper_case3_controlled``; the fixed case is ``paper_case1_fixed``."""
-    from uvms import reproduce
+    from uvms.reproduce import cases as reproduce
     from uvms.sim.scenario import load_scenario, run_scenario
 
     model = uvms.load_model("paper")

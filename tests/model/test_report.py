@@ -1,4 +1,4 @@
-"""``uvms.model.report.model_report``: statics, trim, thrust available per axis, layout rank and the sliding-mode
+"""``uvms.analysis.report.model_report``: statics, trim, thrust available per axis, layout rank and the sliding-mode
 ``b``-bounds check, against closed forms worked out by hand (moment balances, small linear programs) and against
 the dynamics engine (RNEA and ABA), never against the report's own output."""
 
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import uvms
+from uvms.analysis.report import AXES, model_report
 from uvms.errors import UvmsInputError
-from uvms.model.report import AXES, model_report
 from uvms.thrusters.healey import HealeyParameters
 from uvms.thrusters.ideal import IdealParameters
 from uvms.thrusters.layouts import Thruster
@@ -280,7 +280,7 @@ def test_asymmetric_limits_from_a_datasheet_table():
     T1 <= 40 and -T1 >= -30: +6 / -6 N m."""
     from types import SimpleNamespace
 
-    from uvms.model.report import available_thrust, thruster_limits
+    from uvms.analysis.report import available_thrust, thruster_limits
     from uvms.thrusters.allocation import allocation_matrix
 
     table = SimpleNamespace(parameters=SimpleNamespace(max_thrust=40.0, min_thrust=-30.0))

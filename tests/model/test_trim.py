@@ -1,5 +1,5 @@
-"""``uvms.trim`` and ``uvms.model.trim``: the rest attitude and the levelling ballast against closed forms worked out
-by hand (moment balances), and against the dynamics engine (RNEA for static moments, ABA for accelerations at the
+"""``uvms.trim`` and ``uvms.analysis.trim``: the rest attitude and the levelling ballast against closed forms worked
+out by hand (moment balances), and against the dynamics engine (RNEA for static moments, ABA for accelerations at the
 trimmed state); no solution is one line."""
 
 from __future__ import annotations
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import uvms
+from uvms.analysis.trim import level_ballast, statics, trimmed_state, with_ballast
 from uvms.errors import UvmsInputError
-from uvms.model.trim import level_ballast, statics, trimmed_state, with_ballast
 
 G = 9.81
 RHO = 1000.0
@@ -178,7 +178,7 @@ def test_every_option_is_checked_even_when_no_ballast_is_needed(vehicle, options
     before any statics are computed."""
     import time
 
-    import uvms.model.trim as trim_module
+    import uvms.analysis.trim as trim_module
 
     assert uvms.trim(vehicle).level and uvms.trim(vehicle).ballast is None
     monkeypatch.setattr(trim_module, "statics", lambda *a, **k: pytest.fail("statics computed before the checks"))

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import uvms
+from uvms.analysis.trim import centres
 from uvms.errors import UvmsInputError
-from uvms.model.trim import centres
 from uvms.sim.scenario import run_scenario, scenario_from_data
 
 REACHED = [0.05, 2.0, 2.6, 0.05]

@@ -68,8 +68,8 @@ def q_option(model, items: list[str] | None):
     Raises:
         UvmsInputError: one line naming ``--q`` (module docstring).
     """
+    from uvms.analysis.trim import joint_values
     from uvms.errors import UvmsInputError
-    from uvms.model.trim import joint_values
 
     values = split_q_items(items)
     if values is None:

@@ -1,6 +1,6 @@
 """``uvms trim MODEL [--q NAME=VALUE ...] [--ballast mass|foam] [--json]``: the attitude the system rests at with
 the arm in a given pose, its net vertical force, and the least ballast (a point mass, or buoyancy foam) that
-levels it (every number from :func:`uvms.model.trim.trim`). No ballast that levels it: one line, exit 2."""
+levels it (every number from :func:`uvms.analysis.trim.trim`). No ballast that levels it: one line, exit 2."""
 
 from __future__ import annotations
 
@@ -33,9 +33,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Load the model, compute and print the trim."""
+    from uvms.analysis.trim import MIN_ARM, trim
     from uvms.errors import UvmsInputError
     from uvms.model import load_model
-    from uvms.model.trim import MIN_ARM, trim
 
     model = load_model(args.model)
     q = q_option(model, args.q)

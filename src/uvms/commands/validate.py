@@ -1,7 +1,7 @@
 """``uvms validate FILE_OR_NAME [--q Q1 ... | --q NAME=VALUE ...] [--json]``: check a model file (YAML, or a
 URDF/xacro robot description), print a short summary and what a modeller needs next: mass and buoyancy, static moment and trim,
 thrust available per axis, thruster layout rank, and whether the sliding-mode controller's ``b`` bounds
-contain the model's effective inertia (every number from :func:`uvms.model.report.model_report`)."""
+contain the model's effective inertia (every number from :func:`uvms.analysis.report.model_report`)."""
 
 from __future__ import annotations
 
@@ -24,8 +24,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Load the model (errors surface as one-line :class:`~uvms.errors.UvmsInputError`), summarise and report."""
+    from uvms.analysis.report import end_effector_name, model_report
     from uvms.model import load_model
-    from uvms.model.report import end_effector_name, model_report
 
     model = load_model(args.model)
     report = model_report(model, q=q_option(model, args.q))

@@ -1,6 +1,6 @@
 """What a modeller needs to know next about a model at rest: mass and buoyancy, trim, thrust, controller fit.
 
-The statics, the rest attitude and the controller-fit check are :mod:`uvms.model.trim`'s (shared with
+The statics, the rest attitude and the controller-fit check are :mod:`uvms.analysis.trim`'s (shared with
 ``uvms trim``); this module adds the static moment, the thrust available per axis and the layout rank.
 
 :func:`model_report` computes every number of ``uvms validate`` (the command only prints
@@ -67,8 +67,8 @@ from typing import Any
 
 import numpy as np
 
-from uvms.model.trim import (AXES, CONTROLLED_AXES, INERTIA_UNITS, WRENCH_ROW, b_bounds_check, centres,  # noqa: F401
-                             effective_inertia, joint_values, rest_attitude, statics, trim_attitude)
+from uvms.analysis.trim import (AXES, CONTROLLED_AXES, INERTIA_UNITS, WRENCH_ROW, b_bounds_check,  # noqa: F401
+                                centres, effective_inertia, joint_values, rest_attitude, statics, trim_attitude)
 
 AXIS_UNITS: tuple[str, ...] = ("N", "N", "N", "N m", "N m", "N m")
 """Units of the thrust available along or about each axis of :data:`AXES`."""

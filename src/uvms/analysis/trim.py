@@ -1,7 +1,7 @@
 """Trim: the attitude a vehicle-manipulator system rests at, and the ballast that levels it.
 
 All quantities are for the system at rest with the arm at joint values ``q``, vectors in the vehicle frame
-(x forward, y starboard, z down; ``docs/conventions.md``). :mod:`uvms.model.report` (``uvms validate``) uses
+(x forward, y starboard, z down; ``docs/conventions.md``). :mod:`uvms.analysis.report` (``uvms validate``) uses
 the same functions; ``uvms trim`` prints :func:`trim`.
 
 Statics (paper Eqs. 7-8)

@@ -1,0 +1,246 @@
+"""What a validated scenario builds: its model's overrides, initial state, inputs, controller, and the run.
+
+A :class:`Scenario` is a validated file (:mod:`uvms.sim.scenario.schema`) with its resolved model
+(:mod:`uvms.sim.scenario.load` makes one). :meth:`Scenario.simulate_options` is the one translation of a
+scenario into the keyword arguments of :func:`uvms.sim.run.simulate`; :func:`run_scenario` runs it.
+
+Built once. Loading builds the pieces that can refuse a scenario, the trimmed initial state (no rest attitude)
+and the controller (unknown name, bad parameters), so that a bad file fails before anything runs; the scenario
+keeps them: the initial state (immutable) for every run, the controller (it holds a run's state) for the first
+run, which takes it; a later run builds a fresh one.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from uvms.errors import UvmsInputError
+from uvms.model.model import Model
+from uvms.sim.health import actuation_metadata
+from uvms.sim.inputs import CurrentTable
+from uvms.sim.result import Result
+from uvms.sim.scenario.schema import ControllerSpec, InitialStateSpec, JointTrajectorySpec, ModelOverrides, ScenarioSpec
+from uvms.state import State
+
+if TYPE_CHECKING:
+    from uvms.sim.plan import RunPlan
+
+
+@dataclass(frozen=True, eq=False)
+class Scenario:
+    """A validated scenario and its resolved model.
+
+    Attributes:
+        spec: the validated file content.
+        model: the model with ``model_overrides`` applied.
+        source: the scenario file (``None`` when built from data).
+        sha256: hex digest of ``text``.
+        text: the file's text (copied verbatim next to results).
+    """
+
+    spec: ScenarioSpec
+    model: Model
+    source: str | None
+    sha256: str
+    text: str
+    _built: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
+    """The pieces built so far (module doc): ``"initial_state"`` and, until a run takes it, ``"controller"``."""
+
+    @property
+    def name(self) -> str:
+        return self.spec.name or "scenario"
+
+    @property
+    def fixed_base(self) -> bool:
+        return self.spec.vehicle == "fixed"
+
+    def initial_state(self) -> State:
+        """The file's initial state; with ``trimmed: true`` its roll and pitch are the rest attitude of the
+        model with the arm at ``q`` (:func:`uvms.analysis.trim.trimmed_state`, ``docs/scenarios.md``). Built on
+        the first call (loading makes it for a trimmed start), the same (immutable) state afterwards.
+
+        Raises:
+            UvmsInputError: ``trimmed: true`` and the system has no stable rest attitude (one line).
+        """
+        if "initial_state" not in self._built:
+            self._built["initial_state"] = build_initial_state(self.spec.initial_state, self.model, self.source)
+        return self._built["initial_state"]
+
+    def current(self) -> CurrentTable | None:
+        """The current input (``None``: the model's environment)."""
+        c = self.spec.inputs.current
+        if c is None:
+            return None
+        if c.table is None:
+            return CurrentTable.constant(c.constant, self.model.fluid_acceleration)
+        t = np.array(c.table.times, dtype=float)
+        v = np.array(c.table.velocity, dtype=float)
+        if c.table.acceleration is not None:
+            return CurrentTable(t, v, np.array(c.table.acceleration, dtype=float))
+        return CurrentTable.from_velocity_table(t, v, self.spec.duration, self.spec.step)
+
+    def make_controller(self):
+        """A fresh controller from the registry (``None`` without one): the one loading built, if no run has
+        taken it yet, else a new one."""
+        c = self.spec.controller
+        if c is None:
+            return None
+        spare = self._built.pop("controller", None)
+        return spare if spare is not None else build_controller(c, self.model, self.source)
+
+    def prebuild(self) -> None:
+        """Build now what can refuse the scenario (a trimmed initial state, the controller) and keep it for the
+        run (module doc).
+
+        Raises:
+            UvmsInputError: no rest attitude, unknown controller or bad controller parameters (one line).
+        """
+        if self.spec.initial_state.trimmed:
+            self.initial_state()                          # no rest attitude: fail now
+        if self.spec.controller is not None and "controller" not in self._built:
+            self._built["controller"] = build_controller(self.spec.controller, self.model, self.source)
+
+    def with_model(self, model: Model) -> Scenario:
+        """The same scenario on another (already loaded) model: its initial state, current, controller and
+        ``actuators: model`` are built for ``model``."""
+        return replace(self, model=model)
+
+    def simulate_options(self) -> dict[str, Any]:
+        """The keyword arguments of :func:`uvms.sim.run.simulate` that run this scenario: the one translation
+        of a scenario file into a simulation (:func:`run_scenario`, ``uvms compare``, ``uvms reproduce``;
+        callers that change one input replace its entry, e.g. ``controller`` or ``actuation``, and then call
+        :func:`uvms.sim.health.actuation_metadata` for a new ``actuation``)."""
+        from uvms.sim.run import Actuation
+
+        spec = self.spec
+        inputs = spec.inputs
+        joint_torques = inputs.torque_schedule()
+        control_period = None                     # the vehicle controller runs at its own period
+        if inputs.joint_trajectory is not None:
+            joint_torques = tracker_for(inputs.joint_trajectory, self.model)
+            control_period = inputs.joint_trajectory.period
+        actuation = Actuation.named(spec.actuators, self.model)
+        metadata = {"scenario": self.name, "scenario_source": self.source, "scenario_sha256": self.sha256,
+                    "model_source": self.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
+                    "controller": spec.controller.name if spec.controller else None,
+                    "health_limits": spec.health.model_dump(),
+                    **actuation_metadata(actuation)}
+        return dict(
+            model=self.model, initial_state=self.initial_state(), duration=spec.duration, step=spec.step,
+            integrator=spec.integrator, fixed_base=self.fixed_base, joint_torques=joint_torques,
+            body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=self.current(),
+            controller=self.make_controller(), actuation=actuation, control_period=control_period,
+            record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
+            metadata=metadata)
+
+
+def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None] | None = None) -> Result:
+    """Simulate a scenario (:meth:`Scenario.simulate_options`). A diverging run returns a :class:`Result` with
+    ``complete = False`` and the reason in ``message`` (nothing is raised); ``progress(t, duration)`` is called
+    after each integration segment. The result's summary carries its run health (:mod:`uvms.sim.health`)."""
+    from uvms.sim.run import simulate
+
+    return simulate(**scenario.simulate_options(), progress=progress)
+
+
+def plan_scenario(scenario: Scenario) -> RunPlan:
+    """The checked run of a scenario, not yet run (:func:`uvms.sim.run.prepare` of the same
+    :meth:`Scenario.simulate_options` that :func:`run_scenario` simulates): :func:`uvms.sim.batch.run_plans`
+    runs many at once, each result equal to :func:`run_scenario`'s."""
+    from uvms.sim.run import prepare
+
+    return prepare(**scenario.simulate_options())
+
+
+# ---------------------------------------------------------------------------------------------- pieces
+
+
+def apply_overrides(model: Model, overrides: ModelOverrides) -> Model:
+    """The model with hydrodynamic scale factors and environment replacements applied.
+
+    A new fluid density also scales every added-mass matrix and displaced-fluid mass by ``rho_new / rho``
+    (same geometry, another fluid); drag uses the density directly.
+    """
+    if overrides.added_mass_scale != 1.0 or overrides.drag_scale != 1.0:
+        model = model.with_hydrodynamics_scaled(added_mass=overrides.added_mass_scale, drag=overrides.drag_scale)
+    env = overrides.environment
+    changes: dict[str, Any] = {}
+    if env.current is not None:
+        changes["current"] = np.array(env.current)
+    if env.gravity is not None:
+        changes["gravity"] = np.array(env.gravity)
+    if env.density is not None:
+        ratio = env.density / model.density
+        changes.update(density=env.density, added_mass=model.added_mass * ratio,
+                       buoyancy_mass=model.buoyancy_mass * ratio)
+    return model.replace(**changes) if changes else model
+
+
+def build_initial_state(spec: InitialStateSpec, model: Model, source: str | None = None) -> State:
+    """The :class:`~uvms.state.State` of ``initial_state`` on ``model`` (:meth:`Scenario.initial_state`).
+
+    Raises:
+        UvmsInputError: ``trimmed: true`` and the system has no stable rest attitude (one line naming
+            ``initial_state.trimmed`` in ``source``).
+    """
+    euler = spec.euler
+    if spec.trimmed:
+        from uvms.analysis.trim import trimmed_state
+
+        try:
+            rest = trimmed_state(model, spec.q, position=spec.position, yaw=spec.euler[2])
+        except UvmsInputError as exc:
+            raise UvmsInputError(exc.message, source, "initial_state.trimmed") from None
+        euler = rest.euler
+    return State.from_euler(model, position=spec.position, euler=euler, nu=spec.nu, q=spec.q, qd=spec.qd)
+
+
+def tracker_for(trajectory: JointTrajectorySpec, model: Model):
+    """The arm controller that tracks ``joint_trajectory`` on ``model``, callable as ``(t, state) -> tau``
+    (:class:`~uvms.control.arm.ComputedTorqueArm` or, ``tracker: pd``, :class:`~uvms.control.arm.PdArm`)."""
+    from uvms.control.arm import ComputedTorqueArm, JointTrajectory, PdArm
+
+    path = JointTrajectory(np.array(trajectory.times), np.array(trajectory.angles))
+    gains = {k: v for k, v in (("kp", trajectory.kp), ("kd", trajectory.kd)) if v is not None}
+    if trajectory.tracker == "pd":
+        return PdArm(path, period=trajectory.period, **gains)
+    return ComputedTorqueArm(model, path, base=trajectory.base, period=trajectory.period, **gains)
+
+
+def _registry():
+    """:mod:`uvms.control.registry`, or ``None`` when it cannot be imported (every controller is then unknown).
+    Looked up on each call, so that a stand-in module in ``sys.modules`` is the one used."""
+    try:
+        return importlib.import_module("uvms.control.registry")
+    except ModuleNotFoundError as exc:
+        if exc.name != "uvms.control.registry":
+            raise
+        return None
+
+
+def build_controller(spec: ControllerSpec, model: Model, source: str | None = None):
+    """A new controller from the registry (:func:`uvms.control.registry.make_controller`) for ``model``.
+
+    Raises:
+        UvmsInputError: unknown controller, invalid parameters (one line naming the ``controller`` field in
+            ``source``).
+    """
+    registry = _registry()
+    names = tuple(registry.controller_names()) if registry is not None else ()
+    if spec.name not in names:
+        known = ", ".join(names) if names else "none available (uvms.control.registry is missing)"
+        raise UvmsInputError(f"unknown controller {spec.name!r}; known: {known}", source, "controller.name")
+    try:
+        return registry.make_controller(spec.name, model, period=spec.period, parameters=dict(spec.parameters))
+    except UvmsInputError as exc:
+        path = exc.path or "parameters"
+        path = path if path.startswith("controller") else f"controller.{path}"
+        raise UvmsInputError(exc.message, source, path) from None
+    except (ValueError, TypeError, KeyError) as exc:
+        message = " ".join(str(exc).split()) or type(exc).__name__
+        raise UvmsInputError(f"invalid controller parameters: {message}", source, "controller.parameters") from None

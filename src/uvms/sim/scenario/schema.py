@@ -1,0 +1,320 @@
+"""The scenario file's schema: what to simulate (model, duration, integrator, inputs, controller, actuators).
+
+Validated like a model file (pydantic v2, unknown keys rejected, one-line errors naming the file and the dotted
+field path); ``docs/scenarios.md`` documents every field. This module holds the file's content only: the checks
+against the model and the loading are :mod:`uvms.sim.scenario.load`'s, what is built from a validated file
+(initial state, inputs, controller, the run) :mod:`uvms.sim.scenario.build`'s.
+
+Field types and strictness come from :mod:`uvms.schema_base` (the kit shared with model and sweep files): a
+number is a YAML number (the loader reads ``1e-3`` as one); a quoted ``"1e-3"`` is a string and is refused.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import (
+    AfterValidator,
+    BeforeValidator,
+    Discriminator,
+    Field,
+    Strict,
+    Tag,
+    field_validator,
+    model_validator,
+)
+
+from uvms.schema_base import (
+    ZERO3,
+    ZERO6,
+    NonNegative,
+    Positive,
+    RunName,
+    Spec,
+    Vec3,
+    Vec6,
+    Vector,
+    fail,
+    finite_number,
+    show,
+)
+from uvms.sim.health import HealthLimits
+from uvms.sim.inputs import TorqueSchedule
+
+INTEGRATORS = ("rk4", "DOP853", "LSODA", "Radau", "RK45")
+"""``rk4``: compiled fixed-step RK4; the others: ``scipy.integrate.solve_ivp`` methods."""
+
+UNION_TAGS = ("list", "mapping")
+"""Tags of this schema's list-or-mapping unions; left out of the field paths of error messages."""
+
+
+def _list_or_mapping(value: Any) -> str:
+    return "mapping" if isinstance(value, dict) else "list"
+
+
+class EnvironmentOverrides(Spec):
+    """Replace the model file's environment (``None``: keep the model's value)."""
+
+    current: Vec3 | None = None                   # constant current velocity, world frame [m/s]
+    density: Positive | None = None               # rho [kg/m^3]; added and displaced mass scale with it
+    gravity: Vec3 | None = None                   # a_g, world frame (z down) [m/s^2]
+
+
+class ModelOverrides(Spec):
+    """Changes applied to the loaded model (the file itself is never modified)."""
+
+    added_mass_scale: NonNegative = 1.0           # multiplies every added-mass matrix [-]
+    drag_scale: NonNegative = 1.0                 # multiplies every drag coefficient [-]
+    environment: EnvironmentOverrides = EnvironmentOverrides()
+
+
+class Tolerances(Spec):
+    """Error tolerances of the adaptive integrators (ignored by ``rk4``)."""
+
+    rtol: Positive = 1e-10
+    atol: Positive = 1e-12
+
+
+class InitialStateSpec(Spec):
+    """Initial state; every part defaults to zero (the paper's Section 6). ``trimmed: true`` starts at the roll
+    and pitch the system rests at with the arm at ``q`` (:func:`uvms.trimmed_state`); ``euler`` then gives the
+    yaw only (its roll and pitch must be left zero)."""
+
+    position: Vec3 = ZERO3                        # vehicle position, world [m]
+    euler: Vec3 = ZERO3                           # ZYX Euler angles (roll, pitch, yaw) [rad]
+    nu: Vec6 = ZERO6                              # body velocity [p q r u v w] [rad/s, m/s]
+    q: Vector | None = None                       # joint angles (n) [rad]
+    qd: Vector | None = None                      # joint rates (n) [rad/s]
+    trimmed: Annotated[bool, Strict()] = False    # roll and pitch: the rest attitude with the arm at q
+
+    @model_validator(mode="after")
+    def _trimmed_yaw_only(self) -> InitialStateSpec:
+        if self.trimmed and (self.euler[0] != 0.0 or self.euler[1] != 0.0):
+            raise fail(f"expected [0, 0, yaw] with trimmed: true (roll and pitch come from the trim), found "
+                       f"{show(list(self.euler))}", "euler")
+        return self
+
+
+class TorqueStep(Spec):
+    """One row of a piecewise-constant schedule: ``torques`` [N m] from time ``from`` [s] on."""
+
+    start: NonNegative = Field(alias="from")
+    torques: Vector
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        return _only_keys(data, "from", "torques")  # the generic message would list 'start', not 'from'
+
+
+class ConstantTorques(Spec):
+    """Constant joint torques [N m] for the whole run."""
+
+    constant: Vector
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        return _only_keys(data, "constant")  # the generic message cannot tell the union's two forms apart
+
+
+def _only_keys(data: Any, *keys: str) -> Any:
+    if isinstance(data, dict):
+        for key in data:
+            if key not in keys:
+                raise fail(f"unknown key; expected one of: {', '.join(keys)}", str(key))
+    return data
+
+
+def _schedule_order(steps: tuple[TorqueStep, ...]) -> tuple[TorqueStep, ...]:
+    if not steps:
+        raise fail("expected at least one {from: t, torques: [...]} entry, found an empty list")
+    if steps[0].start != 0.0:
+        raise fail(f"expected the first entry to start at 'from: 0', found from: {steps[0].start:g}")
+    for k in range(1, len(steps)):
+        if steps[k].start <= steps[k - 1].start:
+            raise fail(f"expected 'from' times in increasing order, found {steps[k].start:g} after "
+                       f"{steps[k - 1].start:g}", k)
+    return steps
+
+
+def _joint_torques_form(value: Any) -> Any:
+    if not isinstance(value, (list, tuple, dict)):
+        raise fail("expected a list of {from: t, torques: [...]} entries or a mapping {constant: [...]}, "
+                   f"found {show(value)}")
+    return value
+
+
+JointTorques = Annotated[
+    Annotated[tuple[TorqueStep, ...], AfterValidator(_schedule_order), Tag("list")]
+    | Annotated[ConstantTorques, Tag("mapping")],
+    Discriminator(_list_or_mapping),
+    BeforeValidator(_joint_torques_form),
+]
+
+
+class CurrentTableSpec(Spec):
+    """World current velocity [m/s] at ``times`` [s], linear in between and held outside."""
+
+    times: Vector
+    velocity: tuple[Vec3, ...]
+    acceleration: tuple[Vec3, ...] | None = None  # fluid acceleration a_f [m/s^2]; default: d(velocity)/dt
+
+    @model_validator(mode="after")
+    def _consistent(self) -> CurrentTableSpec:
+        if any(t < 0 for t in self.times) or any(b <= a for a, b in zip(self.times, self.times[1:])):
+            raise fail(f"expected times >= 0 in increasing order, found {show(list(self.times))}", "times")
+        for name in ("velocity", "acceleration"):
+            rows = getattr(self, name)
+            if rows is not None and len(rows) != len(self.times):
+                raise fail(f"expected one row per time ({len(self.times)}), found {len(rows)}", name)
+        return self
+
+
+class CurrentSpec(Spec):
+    """A constant current or a table in time (exactly one of them)."""
+
+    constant: Vec3 | None = None                  # world frame [m/s]
+    table: CurrentTableSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_form(self) -> CurrentSpec:
+        if (self.constant is None) == (self.table is None):
+            found = "both" if self.constant is not None else "neither"
+            raise fail(f"expected exactly one of 'constant' or 'table', found {found}")
+        return self
+
+
+class JointTrajectorySpec(Spec):
+    """A joint-space trajectory (e.g. a pilot's master-arm motion) tracked by an arm controller
+    (:mod:`uvms.control.arm`): clamped cubic spline through the knots."""
+
+    times: Vector                                 # knot times [s], increasing
+    angles: tuple[Vector, ...]                    # joint angles at each knot (n each) [rad]
+    tracker: Literal["computed_torque", "pd"] = "computed_torque"
+    kp: Positive | Vector | None = None           # one or per joint: [1/s^2] computed torque, [N m/rad] pd
+    kd: Positive | Vector | None = None           # one or per joint: [1/s] computed torque, [N m s/rad] pd
+    base: Literal["fixed", "moving"] = "fixed"    # computed torque: vehicle motion assumed by the model
+    period: Positive = 0.01                       # arm-controller update period [s]
+
+    @model_validator(mode="after")
+    def _knots(self) -> JointTrajectorySpec:
+        if len(self.angles) != len(self.times):
+            raise fail(f"expected one row of angles per knot time ({len(self.times)}), found {len(self.angles)}",
+                       "angles")
+        if any(b <= a for a, b in zip(self.times, self.times[1:])):
+            raise fail(f"expected increasing knot times, found {show(list(self.times))}", "times")
+        n = len(self.angles[0]) if self.angles else 0
+        for name in ("kp", "kd"):
+            gain = getattr(self, name)
+            if isinstance(gain, tuple) and len(gain) != n:
+                raise fail(f"expected one gain or {n} (one per joint), found {len(gain)}", name)
+        return self
+
+
+class InputsSpec(Spec):
+    """External inputs, held between updates (zero-order hold)."""
+
+    joint_torques: JointTorques | None = None     # [N m]; default: zero
+    joint_trajectory: JointTrajectorySpec | None = None   # instead of joint_torques: track a joint trajectory
+    body_wrench: Vec6 = ZERO6                     # on the vehicle, body axes [moment; force] [N m, N]
+    ee_wrench: Vec6 = ZERO6                       # on the end effector, its axes [moment; force] [N m, N]
+    current: CurrentSpec | None = None            # default: the model's environment current
+
+    @model_validator(mode="after")
+    def _one_arm_input(self) -> InputsSpec:
+        if self.joint_torques is not None and self.joint_trajectory is not None:
+            raise fail("expected joint_torques or joint_trajectory, not both", "joint_trajectory")
+        return self
+
+    def torque_schedule(self) -> TorqueSchedule | None:
+        """The joint torques as a :class:`TorqueSchedule` (``None``: zero)."""
+        tau = self.joint_torques
+        if tau is None:
+            return None
+        if isinstance(tau, ConstantTorques):
+            return TorqueSchedule.constant(tau.constant)
+        return TorqueSchedule(times=np.array([s.start for s in tau]), torques=np.array([s.torques for s in tau]))
+
+    def torque_vectors(self) -> list[tuple[str, tuple[float, ...]]]:
+        """Every torque vector with its field path (for the joint-count check)."""
+        tau = self.joint_torques
+        if tau is None:
+            return []
+        if isinstance(tau, ConstantTorques):
+            return [("inputs.joint_torques.constant", tau.constant)]
+        return [(f"inputs.joint_torques[{k}].torques", s.torques) for k, s in enumerate(tau)]
+
+
+class ControllerSpec(Spec):
+    """A vehicle controller from :mod:`uvms.control.registry`."""
+
+    name: Annotated[str, Field(min_length=1)]
+    period: Positive = 0.01                       # update period, zero-order hold in between [s]
+    parameters: dict[str, Any] = {}               # passed to the registry's factory as they are
+
+
+class OutputsSpec(Spec):
+    """What is recorded."""
+
+    record_period: Positive | None = None         # [s]; default: every step (at most 20 000 samples)
+
+
+class HealthSpec(Spec):
+    """When the run counts as unhealthy (:mod:`uvms.sim.health`): an attitude past ``attitude_limit``, a
+    thruster saturated more than ``saturation_limit`` of the time, the vehicle farther than ``station_limit``
+    off its station, or more than ``unproduced_limit`` of the commanded force or moment not produced."""
+
+    attitude_limit: Positive = HealthLimits.attitude_limit            # largest |roll| or |pitch| [rad] (60 deg)
+    saturation_limit: Annotated[float, BeforeValidator(finite_number), Field(ge=0, le=1)] = \
+        HealthLimits.saturation_limit                                   # fraction of the run [-]
+    station_limit: Positive = HealthLimits.station_limit              # distance off the set point [m]
+    unproduced_limit: Annotated[float, BeforeValidator(finite_number), Field(ge=0, le=1)] = \
+        HealthLimits.unproduced_limit                                   # share of the commanded force [-]
+
+
+class ScenarioSpec(Spec):
+    """A whole scenario file."""
+
+    name: RunName | None = None                   # default: the file name without .yaml
+    description: str | None = None
+    model: Annotated[str, Field(min_length=1)]    # bundled model name or a path (relative: to this file)
+    model_overrides: ModelOverrides = ModelOverrides()
+    duration: Positive                            # [s]
+    step: Positive = 0.001                        # RK4 step; recording grid of the adaptive integrators [s]
+    integrator: Literal["rk4", "DOP853", "LSODA", "Radau", "RK45"] = "rk4"
+    tolerances: Tolerances = Tolerances()
+    vehicle: Literal["released", "fixed"] = "released"
+    initial_state: InitialStateSpec = InitialStateSpec()
+    inputs: InputsSpec = InputsSpec()
+    controller: ControllerSpec | None = None
+    actuators: str = "ideal"                      # thruster layout (uvms.thrusters.layouts)
+    outputs: OutputsSpec = OutputsSpec()
+    health: HealthSpec = HealthSpec()
+
+    @field_validator("actuators")
+    @classmethod
+    def _known_layout(cls, name: str) -> str:
+        from uvms.thrusters.layouts import layout_names
+
+        if name not in (*layout_names(), "model"):
+            raise fail(f"expected 'model' or one of {', '.join(repr(n) for n in layout_names())}, found {show(name)}")
+        return name
+
+    @model_validator(mode="after")
+    def _consistent(self) -> ScenarioSpec:
+        if self.step > self.duration:
+            raise fail(f"expected a step <= duration ({self.duration:g} s), found {self.step:g} s", "step")
+        from uvms.sim.run import MAX_STEPS
+
+        if self.duration / self.step > MAX_STEPS:
+            raise fail(f"expected at most {MAX_STEPS:.0e} steps in the duration ({self.duration:g} s), found "
+                       f"{self.duration / self.step:.3g}", "step")
+        if self.controller is not None and self.controller.period < self.step:
+            raise fail(f"expected a period >= step ({self.step:g} s), found {self.controller.period:g} s",
+                       "controller.period")
+        if self.outputs.record_period is not None and self.outputs.record_period < self.step:
+            raise fail(f"expected a record period >= step ({self.step:g} s), found {self.outputs.record_period:g} s",
+                       "outputs.record_period")
+        return self
