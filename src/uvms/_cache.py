@@ -5,10 +5,22 @@ also contains every kernel it calls from other modules. Keying the cache folder 
 module that uses numba means an edited helper never leaves a stale caller in the cache. A user's
 own ``NUMBA_CACHE_DIR`` is respected when it can be written. Whatever cannot be written, a command still runs
 (:func:`configure`): a temporary folder, else no cache at all; numba never raises "cannot cache function".
+
+Two more things make a first run fast (``docs/conventions.md``, "The first run"):
+
+- **Kernels compiled at install.** ``pip install`` runs :mod:`uvms.precompile` (the build backend in
+  ``build_backend/``), which compiles every kernel into the package's ``_kernels/numba-<fingerprint>`` folder.
+  :func:`configure` copies that folder into an empty cache folder of the same fingerprint, so a first command
+  loads compiled code instead of compiling it (a copy of a few MB, well under a second).
+- **A cache that moves with the package.** numba names a function's cache subfolder after the absolute path of
+  its source file; :class:`PackageLocator` names it after the path inside the ``uvms`` package instead, so
+  kernels compiled where the package was built serve wherever it is installed (numba still checks each source
+  file's contents, its own version and the CPU, and compiles again when any differs).
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import sys
@@ -67,6 +79,89 @@ def _temporary_folder() -> Path:
     return folder
 
 
+PACKAGE_DIR = Path(__file__).resolve().parent
+"""The installed ``uvms`` package (the root of :class:`PackageLocator`'s relative paths)."""
+PREBUILT_DIR = PACKAGE_DIR / "_kernels"
+"""Where ``pip install`` leaves the kernels it compiled (:mod:`uvms.precompile`), one folder per fingerprint."""
+SEEDED_MARK = ".uvms-seeded"
+"""A file in a cache folder that was filled from :data:`PREBUILT_DIR` (so it is copied once)."""
+LOCATOR = "uvms._cache.PackageLocator"
+"""numba's name of :class:`PackageLocator` (``NUMBA_CACHE_LOCATOR_CLASSES``, numba >= 0.61)."""
+NUMBA_LOCATORS = ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator", "IPythonCacheLocator",
+                  "ZipCacheLocator")
+"""numba's own locators, tried after :class:`PackageLocator` (numba's default order)."""
+
+
+def fingerprint() -> str:
+    """The fingerprint of the installed kernels' sources (the cache folder's suffix)."""
+    return _fingerprint(PACKAGE_DIR)
+
+
+def _package_locator():
+    """:class:`PackageLocator`, built on first use so that ``import uvms`` does not import numba."""
+    from numba.core import config
+    from numba.core.caching import UserProvidedCacheLocator
+
+    class PackageLocator(UserProvidedCacheLocator):
+        """numba's user-folder locator with the cache subfolder named by the source file's folder *inside*
+        the ``uvms`` package (``<cache>/uvms/dynamics/...``) rather than by its absolute path; functions
+        outside the package are left to numba's own locators."""
+
+        def __init__(self, py_func, py_file):
+            super().__init__(py_func, py_file)
+            inside = Path(py_file).resolve().parent.relative_to(PACKAGE_DIR)
+            self._cache_path = os.path.join(config.CACHE_DIR, "uvms", *inside.parts)
+
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            try:
+                Path(py_file).resolve().relative_to(PACKAGE_DIR)
+            except (ValueError, OSError):
+                return None
+            watch_compiles()
+            return super().from_function(py_func, py_file)
+
+    return PackageLocator
+
+
+def __getattr__(name: str):
+    if name == "PackageLocator":          # numba imports it by name (NUMBA_CACHE_LOCATOR_CLASSES)
+        global PackageLocator
+        PackageLocator = _package_locator()
+        return PackageLocator
+    raise AttributeError(name)
+
+
+def _use_package_locator() -> None:
+    """Put :class:`PackageLocator` first in numba's locators, unless the user chose locators of their own."""
+    if os.environ.get("NUMBA_CACHE_LOCATOR_CLASSES"):
+        return
+    os.environ["NUMBA_CACHE_LOCATOR_CLASSES"] = ",".join((LOCATOR, *NUMBA_LOCATORS))
+    if "numba" in sys.modules:
+        from numba.core import config
+
+        config.CACHE_LOCATOR_CLASSES = os.environ["NUMBA_CACHE_LOCATOR_CLASSES"]
+        watch_compiles()
+
+
+def seed(folder: Path, prebuilt: Path | None = None) -> bool:
+    """Fill an empty cache ``folder`` with the kernels compiled at install (``_kernels/numba-<fingerprint>``)
+    once; returns whether it copied anything. A folder that already holds compiled kernels is left as it is
+    (numba replaces what is stale), and nothing is copied when ``UVMS_NO_PREBUILT`` is set (to measure a
+    compile from nothing)."""
+    import shutil
+
+    prebuilt = prebuilt or PREBUILT_DIR / f"numba-{fingerprint()}"
+    if os.environ.get("UVMS_NO_PREBUILT") or not prebuilt.is_dir() or (folder / SEEDED_MARK).exists():
+        return False
+    try:
+        shutil.copytree(prebuilt, folder, dirs_exist_ok=True)
+        (folder / SEEDED_MARK).write_text(str(prebuilt) + "\n")
+    except OSError:
+        return False          # a partly copied folder is a partial cache: numba compiles what is missing
+    return True
+
+
 FIRST_COMPILE_NOTICE = ("uvms: compiling the numerical kernels for this machine (first run only, about {minutes}; "
                         "later runs start in about a second)")
 """What the CLI says once when the compiled kernels are not cached yet (instead of a progress bar at 0)."""
@@ -90,24 +185,73 @@ def compiled_before(kernel: str = "compiled_loop.advance_loop") -> bool:
 
 _announce = None
 """Where :func:`announce_compile` says it (set by the CLI: stderr); ``None``: say nothing (library use)."""
+_writer = None
+"""Where :mod:`uvms._compile_watch` says what compiles (set by the CLI: stderr); ``None``: the logger."""
+_said = False
 
 
 def set_compile_notice(write) -> None:
-    """Let :func:`announce_compile` call ``write(text)`` (once per process)."""
-    global _announce
-    _announce = write
+    """Let :func:`announce_compile` call ``write(text)`` (once per process), and the compile watch say its
+    progress lines through ``write`` (``None``: through the ``uvms.compile`` logger)."""
+    global _announce, _writer
+    _announce = _writer = write
+
+
+def compile_writer():
+    """The writer set by :func:`set_compile_notice` (``None``: the logger)."""
+    return _writer
+
+
+def notice_said() -> bool:
+    """Whether :func:`announce_compile` said the first-compile notice in this process."""
+    return _said
+
+
+def watch_compiles() -> None:
+    """Say what compiles while it compiles (:mod:`uvms._compile_watch`; numba is imported by then)."""
+    from uvms._compile_watch import install
+
+    install()
 
 
 def announce_compile() -> bool:
     """Just before the first compiled run of the process (its inputs checked): if the kernels are not cached
     yet, say :data:`FIRST_COMPILE_NOTICE` through the function given to :func:`set_compile_notice`, once.
     Returns whether it was said."""
-    global _announce
+    global _announce, _said
     write, _announce = _announce, None
     if write is None or compiled_before():
         return False
     write(FIRST_COMPILE_NOTICE.format(minutes=FIRST_COMPILE_MINUTES))
+    _said = True
     return True
+
+
+@contextlib.contextmanager
+def compile_lock():
+    """Hold the cache folder's lock file (``.uvms-compile.lock``, an exclusive ``flock``) for the duration: the
+    processes of one machine that may compile the same kernels (a sweep's workers warming up) take turns, so
+    the first compiles and the others load what it cached. Without a cache folder, or on a system without
+    ``fcntl``, it holds nothing."""
+    folder = os.environ.get("NUMBA_CACHE_DIR")
+    try:
+        import fcntl
+    except ImportError:                  # pragma: no cover - not POSIX
+        fcntl = None
+    if not folder or fcntl is None:
+        yield
+        return
+    try:
+        handle = open(Path(folder) / ".uvms-compile.lock", "a")
+    except OSError:
+        yield
+        return
+    with handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
 
 
 def compile_without_cache() -> None:
@@ -151,18 +295,21 @@ def configure() -> None:
     kernels are compiled without any cache (:func:`compile_without_cache`), again with one warning line: numba's
     own default, next to the installed sources, is never relied on.
     """
+    _use_package_locator()
     user = os.environ.get("NUMBA_CACHE_DIR")
     if user:
         reason = _writable(Path(user))
         if reason is None:
+            seed(Path(user))
             return
         where = f"NUMBA_CACHE_DIR={user}"
     else:
         base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "uvms"
-        folder = base / f"numba-{_fingerprint(Path(__file__).parent)}"
+        folder = base / f"numba-{fingerprint()}"
         reason = _writable(folder)
         if reason is None:
             _prune(base, keep=folder)
+            seed(folder)
             _use(folder)
             return
         where = str(base)
@@ -177,6 +324,7 @@ def configure() -> None:
     sys.stderr.write(f"uvms: warning: cannot write the compiled-kernel cache {where}"
                      f" ({reason}); compiling for this run only (set NUMBA_CACHE_DIR to a writable folder "
                      "to keep the compiled kernels)\n")
+    seed(folder)
     _use(folder)
 
 

@@ -14,4 +14,5 @@ COMMANDS: tuple[str, ...] = (
     "compare",
     "sweep",
     "show", "animate",
+    "precompile",
 )

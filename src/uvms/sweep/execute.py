@@ -180,7 +180,8 @@ def dask_setup(worker=None) -> None:
 
 def warm_up(tasks: list[dict[str, Any]]) -> int:
     """Import uvms and load (or compile) the kernels on a worker: each task shortened to three control periods,
-    run as a batch (:func:`run_batch`); returns how many ran."""
+    run as a batch (:func:`run_batch`) under the cache folder's :func:`uvms._cache.compile_lock`, so that the
+    workers of one machine pay a compile once, not once each; returns how many ran."""
     short = []
     for task in tasks:
         data = dict(task["data"])
@@ -192,8 +193,11 @@ def warm_up(tasks: list[dict[str, Any]]) -> int:
         except (TypeError, ValueError):  # the real runs report any problem
             continue
         short.append({**task, "data": data})
+    from uvms._cache import compile_lock
+
     try:
-        return len(run_batch(short))
+        with compile_lock():            # the workers of one machine compile once, in turn (docs/sweeps.md)
+            return len(run_batch(short))
     except Exception:  # noqa: BLE001 - the real runs report any problem
         return 0
 

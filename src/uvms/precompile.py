@@ -1,0 +1,193 @@
+"""Compile every kernel uvms runs, ahead of its first use: what ``pip install`` does (``uvms precompile``).
+
+numba compiles a kernel the first time it is called with a given set of argument types and keeps the machine
+code in its cache (:mod:`uvms._cache`). The types do not depend on the numbers (a model of any size, any
+duration, any controller gain gives the same types), so a few milliseconds of every kind of run compile
+everything a real run needs: :func:`workloads` lists them, each a short run of a bundled scenario, of the
+Python API, of the batch and step APIs and of the Gymnasium environment.
+
+``python -m uvms.precompile [--into FOLDER] [--jobs N]`` runs them in ``N`` processes (default: the number of
+cores, at most 2), each one writing into the same cache. With ``--into FOLDER`` the cache is
+``FOLDER/numba-<fingerprint>`` (the package's ``_kernels`` folder at install; :func:`uvms._cache.seed` copies it
+into a user's empty cache); without it, the user's own cache. A workload that fails is reported and skipped: a
+kernel it would have compiled then compiles at first use, as without this step.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Callable
+
+SHORT = 0.03
+"""Duration of each short run [s]: a few controller updates and record rows, every branch of the loop once."""
+
+SCENARIOS = ("paper_case1_fixed", "paper_case2_released", "paper_case3_controlled", "bluerov2_heavy_alpha5_hold6",
+             "bluerov2_heavy_alpha5_reach")
+
+
+def _scenario(name: str, **changes) -> None:
+    """A bundled scenario shortened to :data:`SHORT` seconds (and ``changes`` applied to its fields), run."""
+    import uvms
+    from uvms.safe_yaml import read_yaml_mapping
+    from uvms.sim.scenario import run_scenario, scenario_from_data
+
+    path = Path(uvms.__file__).parent / "scenarios" / f"{name}.yaml"
+    data = read_yaml_mapping(path, "scenario fields")
+    data.update(duration=SHORT, **changes)
+    trajectory = (data.get("inputs") or {}).get("joint_trajectory")
+    if trajectory:                       # the same knots, squeezed into the short run
+        knots = len(trajectory["times"])
+        trajectory["times"] = [SHORT * k / max(knots - 1, 1) for k in range(knots)]
+    run_scenario(scenario_from_data(data, source=str(path), base_dir=path.parent, default_name=name))
+
+
+def _controllers(scenario: str, names: tuple[str, ...], actuators: tuple[str, ...]) -> Callable[[], None]:
+    def run() -> None:
+        for actuator in actuators:
+            for name in names:
+                parameters = {"imu_noise": 0.01} if name == "smc-ne-noisy" else {}
+                controller = {"name": name.replace("-noisy", ""), "period": 0.01, "parameters": parameters}
+                _scenario(scenario, controller=controller, actuators=actuator)
+    return run
+
+
+def _api() -> None:
+    """The Python API's compiled entry points on both bundled models."""
+    import numpy as np
+
+    import uvms
+
+    for name in ("paper", "bluerov2_heavy_alpha5"):
+        model = uvms.load_model(name)
+        n = model.n_joints if hasattr(model, "n_joints") else len(model.joint_names)
+        state = uvms.State.from_euler(model, q=np.full(n, 0.1))
+        uvms.forward_dynamics(model, state, joint_torques=np.zeros(n))
+        acc = uvms.forward_dynamics(model, state)
+        uvms.inverse_dynamics(model, state, nu_dot=acc.nu_dot, qdd=acc.qdd)
+        uvms.mass_matrix(model, state)
+        uvms.bias_forces(model, state)
+        uvms.hydrodynamic_wrenches(model, state)
+        uvms.end_effector_position(model, state)
+        uvms.frame_poses(model, state)
+        uvms.linearize(model, state)
+        uvms.trimmed_state(model)
+        uvms.simulate(model, duration=SHORT, step=1e-3)
+
+
+def _batch() -> None:
+    """``uvms.rollout`` (threads), the step API and the batch stepper."""
+    import uvms
+    from uvms.control.registry import make_controller
+    from uvms.sim.inputs import paper_torques
+
+    model = uvms.load_model("paper")
+    trials = [uvms.Trial(hydro_scale=s, controller=make_controller("smc-ab", model, period=0.01)) for s in (0.9, 1.1)]
+    uvms.rollout(model, trials, duration=SHORT, joint_torques=paper_torques(), threads=2)
+    uvms.rollout(model, [uvms.Trial(hydro_scale=1.0)], duration=SHORT, joint_torques=paper_torques(), threads=1)
+    simulator = uvms.Simulator(model, controller=make_controller("smc-ab", model, period=0.01))
+    simulator.step(SHORT)
+    simulator.reset()
+    simulator.step(SHORT, body_wrench=[0, 0, 0, 1.0, 0, 0])
+
+
+def _gym() -> None:
+    """The Gymnasium environment, single and vectorised (skipped without gymnasium)."""
+    try:
+        import gymnasium  # noqa: F401
+    except ImportError:
+        return
+    import numpy as np
+
+    import uvms.gym  # noqa: F401  (registers the environments)
+
+    env = gymnasium.make("uvms/StationKeeping-v0")
+    env.reset(seed=0)
+    env.step(np.zeros(env.action_space.shape))
+    from uvms.gym.vector import StationKeepingVectorEnv
+
+    vector = StationKeepingVectorEnv(num_envs=2)
+    vector.reset(seed=0)
+    vector.step(np.zeros(vector.action_space.shape))
+
+
+def _thrusters() -> None:
+    """The Healey thruster curve of ``uvms thruster-curve``."""
+    from uvms.thrusters.curve import default_voltages, step_responses, thrust_curve
+    from uvms.thrusters.healey import HealeyParameters
+
+    params = HealeyParameters()
+    thrust_curve(params, default_voltages(params)[:2], duration=SHORT)
+    step_responses(params, default_voltages(params)[:2], duration=SHORT)
+
+
+def workloads() -> dict[str, Callable[[], None]]:
+    """Every kind of run, by name (module docstring); each compiles what it reaches."""
+    return {
+        **{f"scenario {name}": (lambda name=name: _scenario(name)) for name in SCENARIOS},
+        "paper controllers": _controllers("paper_case3_controlled",
+                                          ("smc-ab", "smc-ne", "smc-ne-noisy", "smc-vehicle", "pid", "lqr"),
+                                          ("ideal", "paper-sway")),
+        "bluerov2 controllers": _controllers("bluerov2_heavy_alpha5_hold6", ("smc-ab", "pid", "lqr"), ("model",)),
+        "python api": _api,
+        "batch and step": _batch,
+        "gymnasium": _gym,
+        "thrusters": _thrusters,
+    }
+
+
+def run(names: list[str]) -> int:
+    """Run the named workloads in this process; returns how many failed (each failure is one line)."""
+    import warnings
+
+    failed = 0
+    every = workloads()
+    for name in names:
+        start = time.perf_counter()
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                every[name]()
+        except Exception as exc:         # noqa: BLE001  (a workload that fails must not stop the others)
+            failed += 1
+            print(f"uvms precompile: {name}: skipped ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})",
+                  flush=True)
+            continue
+        print(f"uvms precompile: {name}: {time.perf_counter() - start:.0f} s", flush=True)
+    return failed
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m uvms.precompile", description=__doc__.splitlines()[0])
+    parser.add_argument("--into", type=Path, help="write the kernels into FOLDER/numba-<fingerprint>")
+    parser.add_argument("--jobs", type=int, default=min(os.cpu_count() or 1, 2), help="processes (default: 2)")
+    parser.add_argument("--only", nargs="*", help=argparse.SUPPRESS)     # one process's share (internal)
+    args = parser.parse_args(argv)
+    if args.only is not None:
+        return 1 if run(args.only) else 0
+    env = dict(os.environ)
+    if args.into is not None:
+        from uvms._cache import fingerprint
+
+        folder = args.into.resolve() / f"numba-{fingerprint()}"
+        folder.mkdir(parents=True, exist_ok=True)
+        env["NUMBA_CACHE_DIR"] = str(folder)
+        env["UVMS_NO_PREBUILT"] = "1"
+    names = list(workloads())
+    jobs = max(1, min(args.jobs, len(names)))
+    start = time.perf_counter()
+    shares = [names[i::jobs] for i in range(jobs)]
+    processes = [subprocess.Popen([sys.executable, "-m", "uvms.precompile", "--only", *share], env=env)
+                 for share in shares]
+    codes = [p.wait() for p in processes]
+    print(f"uvms precompile: done in {time.perf_counter() - start:.0f} s"
+          + ("" if not any(codes) else " (some workloads were skipped: they compile at first use)"), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
