@@ -141,12 +141,14 @@ class Poses:
 
 def forward_kinematics(model, state) -> Poses:
     """World pose of the vehicle, every link frame and the end effector."""
+    from uvms.dynamics.plant import kernel_model
+
     checks.state(model, state)
     nb = model.n_bodies
     R = np.zeros((nb + 1, 3, 3))
     p = np.zeros((nb + 1, 3))
-    link_poses(model.kernel, state.rotation, np.array(state.position, dtype=float), np.array(state.q, dtype=float),
-               R, p, np.zeros((3, 3)), np.zeros(3))
+    link_poses(kernel_model(model), state.rotation, np.array(state.position, dtype=float),
+               np.array(state.q, dtype=float), R, p, np.zeros((3, 3)), np.zeros(3))
     return Poses(rotation=R, position=p)
 
 

@@ -122,6 +122,27 @@ def euler_from_quaternion(q: np.ndarray) -> np.ndarray:
     return euler_from_rotation(rotation_from_quaternion(q))
 
 
+@njit(cache=True, nogil=True)
+def attitude_error(t, q, out):
+    """``out`` (3,): the rotation vector [rad] of ``R_t^T R`` (the attitude error in body axes) for unit
+    quaternions ``t`` (target) and ``q`` ``[w x y z]`` (Hamilton, body to world), compiled so that kernels call
+    it: ``e = conj(t) q`` taken with ``e_w >= 0``, then ``2 atan2(|e_v|, e_w) e_v / |e_v|`` (``2 e_v / e_w`` as
+    ``|e_v| -> 0``)."""
+    tw, tx, ty, tz = t[0], -t[1], -t[2], -t[3]
+    qw, qx, qy, qz = q[0], q[1], q[2], q[3]
+    ew = tw * qw - tx * qx - ty * qy - tz * qz
+    ex = tw * qx + qw * tx + ty * qz - tz * qy
+    ey = tw * qy + qw * ty + tz * qx - tx * qz
+    ez = tw * qz + qw * tz + tx * qy - ty * qx
+    if ew < 0.0:
+        ew, ex, ey, ez = -ew, -ex, -ey, -ez
+    s = np.sqrt(ex * ex + ey * ey + ez * ez)
+    scale = 2.0 * np.arctan2(s, ew) / s if s > 1e-12 else 2.0 / ew
+    out[0] = ex * scale
+    out[1] = ey * scale
+    out[2] = ez * scale
+
+
 def quaternion_rate(q: np.ndarray, omega: np.ndarray) -> np.ndarray:
     """``q_dot = 0.5 q (x) [0, omega]`` for body-frame angular velocity ``omega`` (replaces Eq. 1's ``T2``)."""
     w, x, y, z = q

@@ -7,6 +7,7 @@ import numpy as np
 
 import uvms
 from tests.conftest import random_model
+from uvms.dynamics.plant import kernel_model
 
 
 def _about_origin(point, force):
@@ -47,7 +48,7 @@ def test_added_mass_terms_match_eq_2_with_the_abas_accelerations(rng):
     v_c, tau, f0 = rng.normal(scale=0.5, size=3), rng.normal(size=3), rng.normal(size=6)
     w = uvms.hydrodynamic_wrenches(model, s, current=v_c, joint_torques=tau, body_wrench=f0)
     acc = uvms.forward_dynamics(model, s, current=v_c, joint_torques=tau, body_wrench=f0)
-    km = model.kernel
+    km = kernel_model(model)
     ws = make_workspace(model.n_bodies)
     outward_pass(km, ws, s.rotation, np.array(s.nu), np.array(s.q), np.array(s.qd), v_c, np.zeros(3))
     a = np.zeros((model.n_bodies, 6))

@@ -10,7 +10,7 @@ import pytest
 
 import uvms
 from uvms.dynamics.api import Dynamics, dynamics_of
-from uvms.dynamics.plant import forward_into, model_data
+from uvms.dynamics.plant import empty_model_data, forward_into, kernel_model, model_data
 from uvms.errors import UvmsInputError
 
 
@@ -126,3 +126,57 @@ def test_a_nan_torque_is_named_though_checked_only_after_the_kernel(paper, state
             d.forward(state, joint_torques=tau)
     acc = d.forward(state, joint_torques=np.zeros(3))          # the workspace is fine afterwards
     np.testing.assert_array_equal(acc.qdd, Dynamics(paper).forward(state).qdd)
+
+
+# -------------------------------------------------------------- the kernel arrays: built once, in the dynamics
+
+
+def test_the_kernel_arrays_are_built_once_per_model_and_shared():
+    """A model's :class:`KernelModel` is built at the first use and kept with the model: every ``ModelData`` and
+    ``Dynamics`` of it reads the same arrays (no copy); a changed model gets its own."""
+    from numba import typeof
+
+    model = uvms.load_model("paper").with_hydrodynamics_scaled(added_mass=0.4, drag=0.4)
+    km = kernel_model(model)
+    assert kernel_model(model) is km
+    assert model_data(model).body is km and model_data(model).work is not model_data(model).work
+    assert Dynamics(model).data.body is km
+    assert all(a.flags.writeable for a in km if isinstance(a, np.ndarray))      # one numba type for all
+    heavier = model.replace(mass=model.mass * 2.0)
+    assert kernel_model(heavier) is not km
+    np.testing.assert_array_equal(kernel_model(heavier).mass, 2.0 * km.mass)
+    assert typeof(kernel_model(heavier)) == typeof(km)
+
+
+def test_the_model_holds_no_kernel_arrays_and_imports_nothing_of_the_dynamics():
+    import ast
+    from pathlib import Path
+
+    import uvms.model.model as source
+
+    assert not hasattr(uvms.load_model("paper").with_effects(drag=False), "kernel")
+    tree = ast.parse(Path(source.__file__).read_text())
+    imported = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
+    assert not [m for m in imported if m and m.startswith("uvms.dynamics")], imported
+
+
+def test_the_empty_model_data_has_every_models_numba_type_and_reads_no_model_file(monkeypatch):
+    """The placeholder of an unused model slot is zero-size arrays of the right types, built without any model
+    (it used to load the bundled ``paper`` model file)."""
+    from numba import typeof
+
+    import uvms.model.load
+
+    paper = uvms.load_model("paper")
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a model file was read")
+
+    monkeypatch.setattr(uvms.model.load, "load_model", refuse)
+    empty = empty_model_data()
+    assert typeof(empty) == typeof(model_data(paper))
+    assert all(a.size == 0 for part in empty for a in part if isinstance(a, np.ndarray))
+    from uvms.control.arm import constant_arm
+    from uvms.control.kernels import no_controller
+
+    assert no_controller().system.body.mass.size == 0 and constant_arm([0.0, 0.0]).model.work.v.size == 0

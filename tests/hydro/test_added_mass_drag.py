@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 
 import uvms
+from uvms.dynamics.plant import kernel_model
 from uvms.hydro.added_mass import cylinder_added_mass
 from uvms.hydro.drag import (box_rotational_drag_by_strips, box_rotational_drag_coefficient, link_drag_force,
                              vehicle_drag_force)
@@ -43,7 +44,7 @@ def test_paper_model_rotational_drag_constant():
     """rho Cd a^5 / 32 with a = 0.596 m, Cd = 1.07: 2.52 N m s^2 (conventions.md)."""
     model = uvms.load_model("paper")
     assert box_rotational_drag_coefficient(1000.0, 1.07, 0.596) == pytest.approx(2.5146, rel=1e-3)
-    np.testing.assert_allclose(model.kernel.vehicle_drag_angular, 2.5146, rtol=1e-3)
+    np.testing.assert_allclose(kernel_model(model).vehicle_drag_angular, 2.5146, rtol=1e-3)
 
 
 @pytest.mark.parametrize("omega", [-2.0, -0.3, 0.7, 3.0])
@@ -64,7 +65,7 @@ def test_vehicle_translational_drag_per_axis():
     """Eq. 3: F_j = -0.5 rho A Cd v|v| with the paper's 0.061 m^2 and 1.07."""
     model = uvms.load_model("paper")
     out = np.zeros(6)
-    vehicle_drag_force(model.kernel.vehicle_drag_linear, model.kernel.vehicle_drag_angular,
+    vehicle_drag_force(kernel_model(model).vehicle_drag_linear, kernel_model(model).vehicle_drag_angular,
                        np.array([0, 0, 0, 0.5, -1.0, 0.2]), out)
     np.testing.assert_allclose(out[3:], -0.5 * 1000 * 0.061 * 1.07 * np.array([0.25, -1.0, 0.04]), rtol=1e-12)
 

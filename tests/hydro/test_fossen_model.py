@@ -19,6 +19,7 @@ import yaml
 import uvms
 from uvms.cli import main
 from uvms.dynamics.energy import kinetic_energy
+from uvms.dynamics.plant import kernel_model
 from uvms.errors import UvmsInputError
 from uvms.sim.run import simulate
 from uvms.state import State
@@ -153,7 +154,7 @@ def test_energy_decays_monotonically_with_damping_only(tmp_path):
 
 
 def test_paper_model_has_no_fossen_damping():
-    km = uvms.load_model("paper").kernel
+    km = kernel_model(uvms.load_model("paper"))
     assert not km.fossen.any()
 
 

@@ -11,6 +11,7 @@ import yaml
 
 import uvms
 from uvms.cli import main
+from uvms.dynamics.plant import kernel_model
 from uvms.errors import UvmsInputError
 from uvms.state import State
 from tests.helpers import assert_model_file_refused
@@ -101,7 +102,7 @@ def test_from_collision_reads_the_urdf_primitives(tmp_path):
 
 def test_paper_model_has_no_shapes():
     model = uvms.load_model("paper")
-    assert not model.shape_count.any() and not model.kernel.fossen[:, 12, 4].any()
+    assert not model.shape_count.any() and not kernel_model(model).fossen[:, 12, 4].any()
 
 
 @pytest.mark.parametrize("shape,field", [

@@ -13,8 +13,8 @@ values outside its time range. Two trackers turn it into joint torques, each cal
 - :class:`PdArm`: ``tau = kp (q_d - q) + kd (qd_d - qd)``, no model.
 
 Compiled side (issue 14): an :class:`ArmData` and :func:`arm_torques` give the joint torques inside a compiled
-loop; kinds :data:`CONSTANT` (:func:`constant_arm`), :data:`SCHEDULE` (piecewise constant, :func:`schedule_arm`),
-:data:`COMPUTED_TORQUE` (:meth:`ComputedTorqueArm.compiled`) and :data:`PD` (:meth:`PdArm.compiled`). The
+loop; kinds (:mod:`uvms.control.kinds`) ``CONSTANT`` (:func:`constant_arm`), ``SCHEDULE`` (piecewise constant,
+:func:`schedule_arm`), ``COMPUTED_TORQUE`` (:meth:`ComputedTorqueArm.compiled`) and ``PD`` (:meth:`PdArm.compiled`). The
 trackers' Python ``torques(time, state)`` call the same kernel. The spline is evaluated in compiled code from
 scipy's own piecewise-polynomial coefficients (``CubicSpline.c``, ``.x``): on the interval
 ``x_i <= t < x_{i+1}`` (closed at the last knot), ``sum_k c[3-k, i] (t - x_i)^k`` and its derivatives, with the
@@ -29,13 +29,10 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from uvms.dynamics.jit import kernel
-from uvms.dynamics.plant import ModelData, inverse_into, model_data
+from uvms.control.kinds import COMPUTED_TORQUE, CONSTANT, PD, SCHEDULE
+from uvms.dynamics.plant import ModelData, empty_model_data, inverse_into, model_data
 from uvms.errors import UvmsInputError
 from uvms.kinematics import normalised_rotation
-
-CONSTANT, SCHEDULE, COMPUTED_TORQUE, PD = 0, 1, 2, 3
-"""Kinds of :class:`ArmData`."""
-
 
 @dataclass(frozen=True, eq=False)
 class JointTrajectory:
@@ -118,7 +115,7 @@ class ComputedTorqueArm:
         self._data: ArmData | None = None
 
     def compiled(self) -> ArmData:
-        """A fresh :class:`ArmData` (kind :data:`COMPUTED_TORQUE`) with its own model data."""
+        """A fresh :class:`ArmData` (kind ``COMPUTED_TORQUE``) with its own model data."""
         return _tracker_data(COMPUTED_TORQUE, self.trajectory, self.kp, self.kd, model=self.model,
                              moving_base=self.base == "moving")
 
@@ -144,7 +141,7 @@ class PdArm:
         self._data: ArmData | None = None
 
     def compiled(self) -> ArmData:
-        """A fresh :class:`ArmData` (kind :data:`PD`)."""
+        """A fresh :class:`ArmData` (kind ``PD``)."""
         return _tracker_data(PD, self.trajectory, self.kp, self.kd)
 
     def torques(self, time: float, state) -> np.ndarray:
@@ -162,7 +159,7 @@ class PdArm:
 class ArmData(NamedTuple):
     """A compiled joint-torque source (numba type shared by every kind)."""
 
-    kind: int                   # CONSTANT, SCHEDULE, COMPUTED_TORQUE, PD
+    kind: int                   # CONSTANT, SCHEDULE, COMPUTED_TORQUE, PD (uvms.control.kinds)
     n_joints: int
     constant: np.ndarray        # (n,) CONSTANT torques [N m]
     times: np.ndarray           # (K,) SCHEDULE: row k from times[k]; trackers: the knot times
@@ -185,8 +182,6 @@ class ArmData(NamedTuple):
 
 
 def _arm_data(kind: int, n: int, **fields) -> ArmData:
-    from uvms.control.kernels import dummy_model_data
-
     data = dict(kind=kind, n_joints=n, constant=np.zeros(n), times=np.zeros(1), rows=np.zeros((1, n)),
                 half_step=0.0, breaks=np.zeros(0), coefficients=np.zeros((4, 0, n)), kp=np.zeros(n), kd=np.zeros(n),
                 moving_base=False, model=None, current=np.zeros(3), fluid_acceleration=np.zeros(3),
@@ -194,19 +189,19 @@ def _arm_data(kind: int, n: int, **fields) -> ArmData:
                 zero6=np.zeros(6))
     data.update(fields)
     if data["model"] is None:
-        data["model"] = dummy_model_data()
+        data["model"] = empty_model_data()
     return ArmData(**data)
 
 
 def constant_arm(tau) -> ArmData:
-    """Constant joint torques ``tau`` (n,) [N m] (kind :data:`CONSTANT`; zeros: no torques)."""
+    """Constant joint torques ``tau`` (n,) [N m] (kind ``CONSTANT``; zeros: no torques)."""
     tau = np.array(tau, dtype=float).reshape(-1)
     return _arm_data(CONSTANT, tau.size, constant=tau)
 
 
 def schedule_arm(schedule, step: float) -> ArmData:
     """A :class:`~uvms.sim.inputs.TorqueSchedule` sampled as ``simulate`` samples it, ``schedule(t + 0.5 step)``
-    (kind :data:`SCHEDULE`): row ``k`` in force from ``times[k] - 0.5 step - 1e-12`` on."""
+    (kind ``SCHEDULE``): row ``k`` in force from ``times[k] - 0.5 step - 1e-12`` on."""
     times = np.array(schedule.times, dtype=float)
     rows = np.array(schedule.torques, dtype=float).reshape(times.size, -1)
     return _arm_data(SCHEDULE, rows.shape[1], times=times, rows=rows, half_step=0.5 * float(step))

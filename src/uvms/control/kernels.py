@@ -10,12 +10,8 @@ Every function here is a kernel (:mod:`uvms.dynamics.jit`: no reference counting
 matrix inverses are in-place Cholesky solves into the named scratch ``L`` and ``column``), so an update costs
 about its own arithmetic (1.8 us for ``smc-ab`` on the paper model, of which 1.3 us are its ABA).
 
-Controller kinds (:data:`NONE`, :data:`SLIDING`, :data:`PID`) and, for the sliding-mode law, its model of
-the vehicle's acceleration (``predictor``)::
-
-    AB       smc-ab       articulated-body algorithm of the whole system (Eqs. 13-25)
-    VEHICLE  smc-vehicle  the vehicle body alone
-    NE       smc-ne       the vehicle alone plus the arm's Newton-Euler reaction at an IMU-measured acceleration
+Controller kinds (``NONE``, ``SLIDING``, ``PID``) and, for the sliding-mode law, its model of the vehicle's
+acceleration (``predictor``: ``AB``, ``VEHICLE``, ``NE``) are numbered in :mod:`uvms.control.kinds`.
 
 The equations (errors, surfaces, Slotine's law, the PID's anti-windup, the IMU) are derived in
 :mod:`uvms.control.smc`, :mod:`uvms.control.sliding_kernels`, :mod:`uvms.control.pid`, :mod:`uvms.control.smc_ne`
@@ -32,16 +28,12 @@ import numpy as np
 
 from uvms.control import sliding_kernels as sk
 from uvms.control.imu import ImuData, ImuParameters, imu_data, imu_measure
+from uvms.control.kinds import AB, NE, NONE, SLIDING
 from uvms.dynamics.blocks import cholesky_factor, cholesky_solve
 from uvms.dynamics.jit import block, kernel
-from uvms.dynamics.plant import ModelData, forward_into, inverse_into, mass_matrix_into, model_data
+from uvms.dynamics.plant import ModelData, empty_model_data, forward_into, inverse_into, mass_matrix_into
 from uvms.kinematics import normalised_rotation
 from uvms.rotations import euler_zyx
-
-NONE, SLIDING, PID = 0, 1, 2
-"""Controller kinds."""
-AB, VEHICLE, NE = 0, 1, 2
-"""Sliding-mode predictors (how ``f_hat`` is computed)."""
 
 # columns of ControllerData.gains (one row per axis slot, uvms.control.sliding_kernels.SURGE ... YAW)
 BANDWIDTH, ETA, PHI, UNCERTAINTY, B_HAT, BETA, B_MODEL, KP, KI, KD, LIMIT = range(11)
@@ -58,8 +50,8 @@ class ControllerData(NamedTuple):
     (:mod:`uvms.control.sliding_kernels`); ``axes`` lists the controlled ones in logging order.
     """
 
-    kind: int                   # NONE, SLIDING, PID
-    predictor: int              # AB, VEHICLE, NE (sliding mode)
+    kind: int                   # NONE, SLIDING, PID (uvms.control.kinds)
+    predictor: int              # AB, VEHICLE, NE (sliding mode; uvms.control.kinds)
     needs_acceleration: bool    # True only for NE with the IMU in "acceleration" mode
     n_joints: int
     period: float               # [s]
@@ -100,30 +92,6 @@ class ControllerData(NamedTuple):
 
 
 # ------------------------------------------------------------------------------------------- building
-
-
-_DUMMY: list[ModelData] = []
-
-
-def dummy_model_data() -> ModelData:
-    """A :class:`ModelData` of zero bodies, the placeholder of an unused model slot (same numba type)."""
-    if not _DUMMY:
-        from uvms.dynamics.kernel_model import KernelModel, Workspace
-
-        def empty_like(a):
-            return np.zeros((0,) * a.ndim, dtype=a.dtype) if isinstance(a, np.ndarray) else a
-
-        template = model_data(_template_model())
-        _DUMMY.append(ModelData(KernelModel(*[empty_like(a) for a in template.body]),
-                                Workspace(*[empty_like(a) for a in template.work])))
-    body, work = _DUMMY[0]
-    return ModelData(body, work)
-
-
-def _template_model():
-    from uvms.model.load import load_model
-
-    return load_model("paper").vehicle_only()
 
 
 def _state_scratch(n: int) -> dict:
@@ -167,14 +135,14 @@ def controller_data(*, kind: int, n_joints: int, period: float, axes, gains: np.
         data[key] = value
     for key in ("system", "vehicle"):
         if data[key] is None:
-            data[key] = dummy_model_data()
+            data[key] = empty_model_data()
     for key in ("current", "fluid_acceleration"):
         data[key] = np.array(data[key], dtype=float)
     return ControllerData(**data)
 
 
 def no_controller() -> ControllerData:
-    """The placeholder of a run without a compiled controller (kind :data:`NONE`; never updated)."""
+    """The placeholder of a run without a compiled controller (kind ``NONE``; never updated)."""
     return controller_data(kind=NONE, n_joints=0, period=1.0, axes=np.zeros(0, dtype=np.int64),
                            gains=np.zeros((6, N_GAINS)), targets=np.zeros((1, 7)), n_signals=0)
 

@@ -112,9 +112,10 @@ class PidController(CompiledController):
 
     def compiled(self, n_updates: int):
         from uvms.control import kernels as ck
+        from uvms.control.kinds import PID
 
         par = self.parameters
         n = 0 if self.plant is None else self.plant.n_joints
-        return ck.controller_data(kind=ck.PID, n_joints=n, period=self.period,
+        return ck.controller_data(kind=PID, n_joints=n, period=self.period,
                                   axes=slots(self.axes), gains=self.gain_table(), targets=par.targets(),
                                   n_signals=len(self.signal_names))

@@ -407,10 +407,11 @@ class SlidingModeController(CompiledController):
         are checked): the moment the controller is used, so the b bounds' fit is checked here
         (:func:`warn_b_bounds`)."""
         from uvms.control import kernels as ck
+        from uvms.control.kinds import SLIDING
 
         par = self.parameters
         warn_b_bounds(self.plant, par)
-        return ck.controller_data(kind=ck.SLIDING, n_joints=self.plant.n_joints, period=self.period,
+        return ck.controller_data(kind=SLIDING, n_joints=self.plant.n_joints, period=self.period,
                                   axes=slots(self.axes), gains=self.gain_table(), targets=par.targets(),
                                   n_signals=len(self.signal_names),
                                   body_velocity=par.surface == "body_velocity", b_from_model=par.b_source == "model",

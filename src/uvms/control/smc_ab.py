@@ -31,7 +31,7 @@ class ArticulatedBodySMC(SlidingModeController):
         self.model = model.with_hydrodynamics_scaled(added_mass=scale, drag=scale)
 
     def model_options(self, n_updates: int) -> dict:
-        from uvms.control.kernels import AB
+        from uvms.control.kinds import AB
 
         return dict(predictor=AB, system=model_data(self.model), current=np.array(self.model.current, dtype=float),
                     fluid_acceleration=np.array(self.model.fluid_acceleration, dtype=float))

@@ -77,7 +77,7 @@ class NewtonEulerSMC(SlidingModeController):
         self.imu.reset()
 
     def model_options(self, n_updates: int) -> dict:
-        from uvms.control.kernels import NE
+        from uvms.control.kinds import NE
 
         imu = self.parameters.imu()
         return dict(predictor=NE, needs_acceleration=imu.mode == "acceleration", system=model_data(self.system),

@@ -14,7 +14,7 @@ import numpy as np
 
 from uvms.control.registry import register
 from uvms.control.smc import SlidingModeController, SlidingModeParameters
-from uvms.dynamics.plant import model_data
+from uvms.dynamics.plant import kernel_model, model_data
 
 
 class VehicleModel:
@@ -26,7 +26,7 @@ class VehicleModel:
     @property
     def inertia(self) -> np.ndarray:
         """The vehicle's 6x6 inertia with added mass ``I^H_0`` (body axes, about its origin)."""
-        return self.model.kernel.inertia_h[0]
+        return kernel_model(self.model).inertia_h[0]
 
     def options(self) -> dict:
         """The :class:`~uvms.control.kernels.ControllerData` fields of this model (fresh model data)."""
@@ -45,6 +45,6 @@ class VehicleOnlySMC(SlidingModeController):
         self.vehicle = VehicleModel(model, self.parameters.hydro_scale)
 
     def model_options(self, n_updates: int) -> dict:
-        from uvms.control.kernels import VEHICLE
+        from uvms.control.kinds import VEHICLE
 
         return dict(predictor=VEHICLE, **self.vehicle.options())

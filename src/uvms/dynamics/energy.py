@@ -16,6 +16,7 @@ from uvms import checks
 from uvms.dynamics.api import mass_matrix
 from uvms.dynamics.kernel_model import make_workspace
 from uvms.dynamics.passes import outward_pass
+from uvms.dynamics.plant import kernel_model
 from uvms.kinematics import forward_kinematics
 
 
@@ -42,7 +43,7 @@ def spatial_momentum(model, state, *, include_added_mass: bool = False) -> np.nd
     """``[angular; linear]`` momentum about the world origin in world axes (6,)."""
     checks.state(model, state)
     include_added_mass = checks.flag(include_added_mass, "include_added_mass")
-    km = model.kernel
+    km = kernel_model(model)
     ws = make_workspace(model.n_bodies)
     outward_pass(km, ws, state.rotation, np.array(state.nu, dtype=float), np.array(state.q, dtype=float),
                  np.array(state.qd, dtype=float), np.zeros(3), np.zeros(3))

@@ -26,6 +26,7 @@ from uvms import checks
 from uvms.dynamics.aba import aba
 from uvms.dynamics.api import environment
 from uvms.dynamics.kernel_model import ADDED_MASS, BUOYANCY, DRAG, GRAVITY, make_workspace
+from uvms.dynamics.plant import kernel_model
 
 CAUSES = ("added_mass_velocity", "added_mass_inertial", "fluid_acceleration", "drag", "buoyancy", "gravity")
 
@@ -72,7 +73,7 @@ def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None,
     tau = checks.optional_vector(joint_torques, n, "joint_torques", " (one per joint)")
     f_body = checks.optional_vector(body_wrench, 6, "body_wrench", " [moment; force]")
     env = environment(model, current, fluid_acceleration)
-    km = model.kernel
+    km = kernel_model(model)
     ws = make_workspace(model.n_bodies)
     nu_dot, qdd = np.zeros(6), np.zeros(n)
     aba(km, ws, state.rotation, nu, np.array(state.q, dtype=float), np.array(state.qd, dtype=float), tau, f_body,

@@ -3,7 +3,8 @@
 Two levels, one owner:
 
 - :class:`ModelData` couples a model's constant kernel arrays (:class:`~uvms.dynamics.kernel_model.KernelModel`,
-  ``body``) with the scratch they need (:class:`~uvms.dynamics.kernel_model.Workspace`, ``work``). Compiled code
+  ``body``; built once per model object by :func:`kernel_model` and shared by every ``ModelData`` of it, which
+  only read them) with the scratch they need (:class:`~uvms.dynamics.kernel_model.Workspace`, ``work``). Compiled code
   outside ``uvms.dynamics`` (controllers, arm trackers) reaches the three algorithms only through the wrappers
   :func:`forward_into` (articulated-body algorithm with hydrodynamics, paper Eqs. 13-23), :func:`inverse_into`
   (recursive Newton-Euler, Featherstone Table 5.1) and :func:`mass_matrix_into` (composite rigid body).
@@ -30,7 +31,7 @@ from numba.experimental import structref
 from uvms.dynamics.aba import aba, aba_inlined
 from uvms.dynamics.crba import crba
 from uvms.dynamics.jit import kernel
-from uvms.dynamics.kernel_model import KernelModel, Workspace, make_workspace
+from uvms.dynamics.kernel_model import KernelModel, Workspace, kernel_model_from, make_workspace
 from uvms.dynamics.rnea import rnea
 from uvms.kinematics import normalised_rotation
 
@@ -113,12 +114,43 @@ def plant_data(plant):
                      plant.bounds)
 
 
+_KERNEL_SLOT = "_uvms_kernel_model"
+"""The model attribute holding the model's :class:`KernelModel` (built by :func:`kernel_model` at the first
+call)."""
+
+
+def kernel_model(model) -> KernelModel:
+    """The kernel arrays of a :class:`~uvms.model.Model` (:func:`~uvms.dynamics.kernel_model.kernel_model_from`),
+    built at the first call and kept in a slot of the model object, so they go with the model (as
+    :func:`uvms.dynamics.api.dynamics_of` keeps its ``Dynamics``). The arrays are writeable (numba types read-only
+    arrays differently: one compiled type for all) and shared by every user of the model: nothing writes them."""
+    try:
+        return model.__dict__[_KERNEL_SLOT]
+    except KeyError:
+        pass
+    return model.__dict__.setdefault(_KERNEL_SLOT, kernel_model_from(model))     # atomic: one per model
+
+
 def model_data(model) -> ModelData:
-    """A :class:`ModelData` of a :class:`~uvms.model.Model` with a fresh workspace. The kernel arrays are
-    copied so that they are writeable (numba types read-only arrays differently: one compiled type for all)."""
-    km = model.kernel
-    body = KernelModel(*[np.array(a) if isinstance(a, np.ndarray) else a for a in km])
-    return ModelData(body=body, work=make_workspace(model.n_bodies))
+    """A :class:`ModelData` of a :class:`~uvms.model.Model`: its kernel arrays (:func:`kernel_model`, shared)
+    with a fresh workspace."""
+    return ModelData(body=kernel_model(model), work=make_workspace(model.n_bodies))
+
+
+def empty_model_data() -> ModelData:
+    """A :class:`ModelData` of no bodies (zero-size arrays of the kernel arrays' dtypes and dimensions): the
+    placeholder of an unused model slot (a controller's or an arm tracker's), of the same numba type as every
+    model's."""
+    def none(ndim: int, dtype=np.float64) -> np.ndarray:
+        return np.zeros((0,) * ndim, dtype=dtype)
+
+    body = KernelModel(parent=none(1, np.int64), tree_E=none(3), tree_r=none(2), joint=none(2),
+                       joint_kind=none(1, np.int64), S=none(2), inertia=none(3), inertia_h=none(3), added_mass=none(3),
+                       mass=none(1), com=none(2), fluid_mass=none(1), cob=none(2), vehicle_drag_linear=none(1),
+                       vehicle_drag_angular=none(1), cylinder=none(3), fossen=none(3), shapes=none(3), ee_body=0,
+                       ee_E=none(2), ee_r=none(1), gravity=none(1))
+    work = Workspace(*[none(a.ndim, a.dtype) for a in make_workspace(0)])
+    return ModelData(body=body, work=work)
 
 
 def fluid_table(times, velocity, acceleration) -> FluidTable:

@@ -144,8 +144,8 @@ class StationKeepingConfig:
 
 def rotation_vector_error(target: np.ndarray, quaternion: np.ndarray) -> np.ndarray:
     """(N, 3) rotation vectors [rad] of ``R_target^T R`` (the attitude error in body axes) for a target
-    quaternion (4,) and (N, 4) unit quaternions (:func:`uvms.gym.kernels.attitude_error`)."""
-    from uvms.gym.kernels import attitude_error
+    quaternion (4,) and (N, 4) unit quaternions (:func:`uvms.rotations.attitude_error`)."""
+    from uvms.rotations import attitude_error
 
     out = np.zeros((quaternion.shape[0], 3))
     for k in range(quaternion.shape[0]):

@@ -10,13 +10,13 @@ frame origin (the vehicle's reference point, or the link's joint), unless a name
 Named frames (:class:`Frame`) are fixed in a body: every body, every link merged into a body by a fixed
 joint, and the end effector (``docs/models.md``).
 
-The compiled kernels read :attr:`Model.kernel`, a :class:`uvms.dynamics.kernel_model.KernelModel` of flat
-arrays derived from the fields below when the model is built.
+The compiled kernels read flat arrays derived from the fields below (:class:`uvms.dynamics.kernel_model.KernelModel`),
+built by the dynamics from the model at their first use (:func:`uvms.dynamics.plant.kernel_model`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -156,7 +156,6 @@ class Model:
     damping_point: Any = None
     shape_drag: Any = None
     shape_count: Any = None
-    kernel: Any = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         n = int(np.shape(self.mass)[0]) - 1
@@ -204,13 +203,10 @@ class Model:
                            float(self.vehicle_rotational_drag_coefficient))
         object.__setattr__(self, "density", float(self.density))
         from uvms.checks import check_joint_axis_inertia
-        from uvms.dynamics.kernel_model import kernel_model_from
 
         check_joint_axis_inertia(self.mass, self.com, self.inertia_com, self.added_mass, joint_axis=self.joint_axis,
                                  joint_type=self.joint_type, source=self.source,
                                  where=lambda j: f"link {self.body_names[j + 1]!r} (body {j + 1})")
-
-        object.__setattr__(self, "kernel", kernel_model_from(self))
 
     def _check_tree(self, n: int) -> None:
         """Programming-error checks of the tree arrays (user files are checked when they are read)."""

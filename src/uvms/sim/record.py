@@ -8,6 +8,7 @@ import time as _time
 
 import numpy as np
 
+from uvms.dynamics.plant import kernel_model
 from uvms.kinematics import end_effector_path
 from uvms.sim.health import actuation_metadata, set_point_metadata
 from uvms.sim.result import Result
@@ -122,7 +123,7 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
     which = np.clip(np.searchsorted(update_times, out_t + 0.5 * timing.h, side="right") - 1, 0, len(log.steps) - 1)
     out_tau = np.array(log.torques, dtype=float).reshape(len(log.steps), n)[which]
     ee = np.zeros((n_out, 3))
-    end_effector_path(plan.model.kernel, np.ascontiguousarray(out_x), ee)
+    end_effector_path(kernel_model(plan.model), np.ascontiguousarray(out_x), ee)
     meta = {"integrator": plan.integrator.name, "step_s": timing.h, "duration_s": timing.duration,
             "fixed_base": plan.fixed_base,
             "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name,

@@ -7,8 +7,8 @@ thruster layout (paper Eq. 11, ``f0 = Lambda T``):
 2. only if that violates a thrust limit, the saturation-aware bounded least squares of
    :func:`uvms.thrusters.allocation.allocate`, compiled (:func:`bounded_least_squares`): minimise
    ``|Lambda T - wrench|`` within ``lower <= T <= upper`` and, among the minimisers, ``|T|``;
-3. per thruster, thrust -> command: Healey's steady-state voltage
-   (:func:`~uvms.thrusters.healey.healey_voltage_for_thrust`), a table thruster's inverse table
+3. per thruster, thrust -> command (:func:`uvms.thrusters.kinds.command_for_thrust`): Healey's steady-state
+   voltage (:func:`~uvms.thrusters.healey.healey_voltage_for_thrust`), a table thruster's inverse table
    (:func:`~uvms.thrusters.table.table_command`), or the thrust itself (first-order and ideal thrusters).
 
 With no thrusters (ideal actuation) the command is the wrench itself. The logged signals are the thrusts and
@@ -32,11 +32,8 @@ import numpy as np
 from numba import njit
 
 from uvms.dynamics.jit import allocating, kernel
-from uvms.thrusters.healey import healey_voltage_for_thrust
-from uvms.thrusters.table import table_command
+from uvms.thrusters.kinds import command_for_thrust, kind_of
 
-HEALEY, TABLE, THRUST = 0, 1, 2
-"""Per-thruster command kinds: a Healey voltage, a table command, the thrust itself."""
 LABELS = ("K", "M", "N", "X", "Y", "Z")
 
 
@@ -49,7 +46,7 @@ class ThrustCommand(NamedTuple):
     lower: np.ndarray           # (m,) thrust limits [N]
     upper: np.ndarray           # (m,)
     regularisation: float       # eps of the active-set search
-    kind: np.ndarray            # (m,) int64 HEALEY, TABLE or THRUST
+    kind: np.ndarray            # (m,) int64 thruster kinds (uvms.thrusters.kinds)
     params: np.ndarray          # (m, P) each thruster's kernel parameters (rows zero-padded)
     coefficients: np.ndarray    # (m, 3) Healey steady-state coefficients (zeros for others)
     redundant: bool             # rank(Lambda) < m: minimum-norm refinement among the minimisers
@@ -72,8 +69,7 @@ def thrust_command(thrusters) -> ThrustCommand:
     params = np.zeros((m, max([r.size for r in rows], default=1)))
     for j, r in enumerate(rows):
         params[j, :r.size] = r
-    kind = np.array([HEALEY if t.model == "healey" else TABLE if t.model == "table" else THRUST
-                     for t in thrusters], dtype=np.int64)
+    kind = np.array([kind_of(t.model) for t in thrusters], dtype=np.int64)
     coefficients = np.zeros((m, 3))
     for j, t in enumerate(thrusters):
         if t.model == "healey":
@@ -315,9 +311,4 @@ def allocate_command(alloc, wrench, command, signals):
         signals[m + k] = wrench[k] - achieved
     for h in range(m):
         signals[h] = T[h]
-        if alloc.kind[h] == HEALEY:
-            command[h] = healey_voltage_for_thrust(alloc.params[h], alloc.coefficients[h], T[h])
-        elif alloc.kind[h] == TABLE:
-            command[h] = table_command(alloc.params[h], T[h])
-        else:
-            command[h] = T[h]
+        command[h] = command_for_thrust(alloc.kind[h], alloc.params[h], alloc.coefficients[h], T[h])
