@@ -43,7 +43,9 @@ def _scenario(name: str, **changes) -> None:
     if trajectory:                       # the same knots, squeezed into the short run
         knots = len(trajectory["times"])
         trajectory["times"] = [SHORT * k / max(knots - 1, 1) for k in range(knots)]
-    run_scenario(scenario_from_data(data, source=str(path), base_dir=path.parent, default_name=name))
+    result = run_scenario(scenario_from_data(data, source=str(path), base_dir=path.parent, default_name=name))
+    result.summary()                     # what `uvms run` prints: Euler angles, metrics, health
+    result.to_dataframe()
 
 
 def _controllers(scenario: str, names: tuple[str, ...], actuators: tuple[str, ...]) -> Callable[[], None]:
