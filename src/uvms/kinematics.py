@@ -14,8 +14,8 @@ import numpy as np
 from numba import njit
 
 from uvms import checks
-from uvms.dynamics.jit import block, kernel
 from uvms.dynamics.kernel_model import JOINT_OFFSET, JOINT_PRISMATIC, JOINT_Z
+from uvms.jit import block, kernel
 
 
 @block

@@ -28,9 +28,9 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from uvms.dynamics.jit import kernel
 from uvms.dynamics.plant import ModelData, inverse_into, model_data
 from uvms.errors import UvmsInputError
+from uvms.jit import kernel
 from uvms.kinematics import normalised_rotation
 
 CONSTANT, SCHEDULE, COMPUTED_TORQUE, PD = 0, 1, 2, 3

@@ -19,7 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from uvms.control.base import Measurement
-from uvms.dynamics.jit import kernel
+from uvms.jit import kernel
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,7 @@ IMU's delay line and pre-drawn noise, the update counter) and its scratch -- and
 runs one update on the simulation's state vector ``x`` (layout of :mod:`uvms.sim.integrate`:
 ``[p(3) | quat(4) | nu(6) | q(n) | qd(n) | actuator states]``). The numba type of a ``ControllerData`` is the
 same for every kind (unused fields hold small dummy arrays), so a compiled loop calling it compiles once.
-Every function here is a kernel (:mod:`uvms.dynamics.jit`: no reference counting, no allocation; the two
+Every function here is a kernel (:mod:`uvms.jit`: no reference counting, no allocation; the two
 matrix inverses are in-place Cholesky solves into the named scratch ``L`` and ``column``), so an update costs
 about its own arithmetic (1.8 us for ``smc-ab`` on the paper model, of which 1.3 us are its ABA).
 
@@ -33,8 +33,8 @@ import numpy as np
 from uvms.control import sliding_kernels as sk
 from uvms.control.imu import ImuData, ImuParameters, imu_data, imu_measure
 from uvms.dynamics.blocks import cholesky_factor, cholesky_solve
-from uvms.dynamics.jit import block, kernel
 from uvms.dynamics.plant import ModelData, forward_into, inverse_into, mass_matrix_into, model_data
+from uvms.jit import block, kernel
 from uvms.kinematics import normalised_rotation
 from uvms.rotations import euler_zyx
 

@@ -29,9 +29,9 @@ from numba.experimental import structref
 
 from uvms.dynamics.aba import aba, aba_inlined
 from uvms.dynamics.crba import crba
-from uvms.dynamics.jit import kernel
 from uvms.dynamics.kernel_model import KernelModel, Workspace, make_workspace
 from uvms.dynamics.rnea import rnea
+from uvms.jit import kernel
 from uvms.kinematics import normalised_rotation
 
 DEFAULT_BOUNDS = np.array([1e4, 1e3, 1e3, 1e6])
@@ -74,7 +74,7 @@ class StepScratch(NamedTuple):
 
 class PlantData(NamedTuple):
     """The fields of a :class:`Plant` as a named tuple (:func:`plant_data`): what kernels compiled without
-    reference counting (:mod:`uvms.dynamics.jit`) take, since reading a structure reference needs it."""
+    reference counting (:mod:`uvms.jit`) take, since reading a structure reference needs it."""
 
     body: KernelModel
     work: Workspace

@@ -49,9 +49,9 @@ from typing import Sequence, Union
 
 import numpy as np
 
-from uvms.dynamics.jit import block, kernel
 from uvms.hydro.added_mass import cylinder_added_mass
 from uvms.hydro.drag import link_drag_force
+from uvms.jit import block, kernel
 from uvms.spatial import plucker_from_pose
 
 # ----------------------------------------------------------------------------------------------------------

@@ -24,8 +24,8 @@ from numba.experimental import structref
 
 from uvms.control.arm import arm_torques
 from uvms.control.kernels import controller_update
-from uvms.dynamics.jit import kernel
 from uvms.dynamics.plant import plant_data
+from uvms.jit import kernel
 from uvms.sim.integrate import derivative_kernel, rk4_steps
 from uvms.thrusters.command import allocate_command
 
@@ -141,7 +141,7 @@ def advance(plant, held, control, schedule, record, log, x, start, stop):
     :class:`~uvms.dynamics.plant.PlantData`. Returns ``(done, code)``: ``code`` 0, or
     :func:`~uvms.sim.integrate.check_state`'s code of the step that left the sane range.
 
-    A kernel (:mod:`uvms.dynamics.jit`: no reference counting): taking the controller's ~170 arrays out of
+    A kernel (:mod:`uvms.jit`: no reference counting): taking the controller's ~170 arrays out of
     ``control`` in a reference-counted function costs an atomic increment and decrement each at every update,
     several times the cost of the update itself."""
     done = start

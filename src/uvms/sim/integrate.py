@@ -21,8 +21,8 @@ import numpy as np
 from numba import njit
 
 from uvms.dynamics.aba import aba_inlined
-from uvms.dynamics.jit import block, kernel
 from uvms.dynamics.plant import plant_data
+from uvms.jit import block, kernel
 from uvms.kinematics import quaternion_to_rotation
 from uvms.state import State
 from uvms.thrusters.actuation import actuator_rates

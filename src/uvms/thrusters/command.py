@@ -31,7 +31,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from uvms.dynamics.jit import allocating, kernel
+from uvms.jit import allocating, kernel
 from uvms.thrusters.healey import healey_voltage_for_thrust
 from uvms.thrusters.table import table_command
 
