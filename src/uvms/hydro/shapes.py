@@ -480,6 +480,18 @@ def drag_table(shapes: Sequence[Shape], density: float) -> np.ndarray:
     return table
 
 
+def shape_drag_tables(shapes_per_body: Sequence[Sequence[Shape]]) -> np.ndarray:
+    """``(nb, k, DRAG_ROW)`` drag tables (:func:`drag_table`) of the bodies' shapes **per unit fluid density**
+    (the kernel model multiplies the coefficient columns by ``Model.density``, so a density override applies to
+    them), padded with zero rows (the count of real rows is ``Model.shape_count``)."""
+    k = max([len(s) for s in shapes_per_body] + [0])
+    out = np.zeros((len(shapes_per_body), k, DRAG_ROW))
+    for i, shapes in enumerate(shapes_per_body):
+        if shapes:
+            out[i, :len(shapes)] = drag_table(shapes, 1.0)
+    return out
+
+
 def drag_workspace() -> np.ndarray:
     """Scratch for :func:`shapes_drag_force` (allocate once per run)."""
     return np.zeros(WORK_SIZE)
