@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from uvms import checks
+from uvms.checks import MAX_RECORDED_VALUES
 from uvms.dynamics.plant import FluidTable, Held, Plant, build_plant, fluid_table, held_inputs
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
 from uvms.sim.integrate import Samples, StateLayout, pack, samples
@@ -24,9 +25,6 @@ MAX_STEPS = 10**9
 MAX_SAMPLES = 20000
 """Default largest number of recorded samples of a run (``Recording.period`` unset)."""
 
-MAX_RECORDED_VALUES = 2 * 10**8
-"""Largest number of recorded state values (rows times state entries, 1.6 GB of float64) of one run, and of one
-:func:`uvms.rollout` batch in all: a larger record is refused before anything is allocated."""
 
 
 def check_record_size(rows: int, size: int, name: str = "record_period", what: str = "") -> None:
