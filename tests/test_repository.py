@@ -232,3 +232,47 @@ def test_the_known_exceptions_are_still_imports():
     stale = [pair for pair in list(KNOWN_UPWARD) + list(KNOWN_CYCLES)
              if pair[0] in graph and pair[1] not in graph[pair[0]]]
     assert not stale, stale
+
+
+def test_every_module_compiling_with_the_ground_floors_decorators_keys_the_kernel_cache(tmp_path):
+    """numba's cache checks only the timestamp of a function's own file: an edit of any module that compiles
+    with :mod:`uvms.jit` must change the cache folder's fingerprint (:func:`uvms._cache._fingerprint`)."""
+    import shutil
+
+    from uvms._cache import _fingerprint
+
+    package = tmp_path / "uvms"
+    shutil.copytree(SRC, package, ignore=shutil.ignore_patterns("__pycache__"))
+    compiled = sorted(m for m, targets in _uvms_imports().items() if "uvms.jit" in targets)
+    assert len(compiled) > 20 and "uvms.hydro.buoyancy" in compiled
+    before = _fingerprint(package)
+    unchanged = []
+    for module in compiled:
+        parts = module.split(".")[1:]
+        path = package.joinpath(*parts).with_suffix(".py")
+        if not path.is_file():
+            path = package.joinpath(*parts, "__init__.py")
+        text = path.read_text()
+        path.write_text(text + "\n# edited\n")
+        if _fingerprint(package) == before:
+            unchanged.append(module)
+        path.write_text(text)
+    assert not unchanged, unchanged
+
+
+STATE_OFFSETS = re.compile(r"\[\s*:?,?\s*(?:3:7|7:13|13:|0:3\]\s*,\s*\w+\[3:7)|\b13 \+ (?:2 \* )?n\b|- 13 - 2 \*")
+
+
+def test_the_state_vectors_offsets_are_named_only_in_uvms_state():
+    """The state vector's layout has one owner (:mod:`uvms.state`: ``POSITION, QUATERNION, NU, JOINTS`` and
+    :class:`~uvms.state.StateLayout`); no other module slices it by literal offsets."""
+    offending = []
+    for path in sorted(SRC.rglob("*.py")):
+        if path == SRC / "state.py":
+            continue
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            if STATE_OFFSETS.search(line):
+                offending.append(f"{path.relative_to(SRC)}:{number}: {line.strip()}")
+    assert not offending, "\n".join(offending)
+    assert STATE_OFFSETS.search("    nu = x[7:13]") and STATE_OFFSETS.search("q = x[13:13 + n]")
+    assert STATE_OFFSETS.search("y[3:7] /= norm") and STATE_OFFSETS.search("n_act = K - 13 - 2 * n")

@@ -15,6 +15,7 @@ from numba import njit
 
 from uvms import checks
 from uvms.jit import block, kernel
+from uvms.state import JOINTS, POSITION, QUATERNION
 
 JOINT_Z = 0
 """Joint kind: revolute about the joint frame's z axis (every modified-DH joint); the kernels' fast path."""
@@ -201,7 +202,7 @@ def frame_poses(model, state) -> dict[str, FramePose]:
 @njit(cache=True)
 def end_effector_path(km, states, out):
     """World end-effector position (``out[k]``, (K, 3)) of every recorded state vector ``states[k]``
-    (:mod:`uvms.sim.integrate` layout), in one compiled loop."""
+    (:mod:`uvms.state` layout), in one compiled loop."""
     nb = km.parent.shape[0]
     n = nb - 1
     R = np.empty((nb + 1, 3, 3))
@@ -211,7 +212,7 @@ def end_effector_path(km, states, out):
     R0 = np.empty((3, 3))
     for k in range(states.shape[0]):
         x = states[k]
-        quaternion_to_rotation(x[3], x[4], x[5], x[6], R0)
-        link_poses(km, R0, x[0:3], x[13:13 + n], R, p, E, r)
+        quaternion_to_rotation(x[QUATERNION], x[QUATERNION + 1], x[QUATERNION + 2], x[QUATERNION + 3], R0)
+        link_poses(km, R0, x[POSITION:QUATERNION], x[JOINTS:JOINTS + n], R, p, E, r)
         for a in range(3):
             out[k, a] = p[nb, a]

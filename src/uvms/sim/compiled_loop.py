@@ -27,6 +27,7 @@ from uvms.control.kernels import controller_update
 from uvms.dynamics.plant import plant_data
 from uvms.jit import kernel
 from uvms.sim.integrate import derivative_kernel, rk4_steps
+from uvms.state import JOINTS, NU
 from uvms.thrusters.command import allocate_command
 
 
@@ -120,7 +121,7 @@ def _update(plant, held, control, schedule, x, done):
         ctrl = control.controller
         if ctrl.needs_acceleration:
             derivative_kernel(plant, held, t, x, control.xdot)
-        controller_update(ctrl, t, x, held.joint_torques, control.xdot[7:13], control.wrench)
+        controller_update(ctrl, t, x, held.joint_torques, control.xdot[NU:JOINTS], control.wrench)
         allocate_command(control.allocation, control.wrench, held.command, control.allocation_signals)
         s = control.signals
         k = 0
