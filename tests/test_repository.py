@@ -276,3 +276,38 @@ def test_the_state_vectors_offsets_are_named_only_in_uvms_state():
     assert not offending, "\n".join(offending)
     assert STATE_OFFSETS.search("    nu = x[7:13]") and STATE_OFFSETS.search("q = x[13:13 + n]")
     assert STATE_OFFSETS.search("y[3:7] /= norm") and STATE_OFFSETS.search("n_act = K - 13 - 2 * n")
+
+
+def test_every_module_whose_constants_a_kernel_reads_keys_the_kernel_cache(tmp_path):
+    """numba freezes a global constant into the compiled code: a module whose upper-case constants are read
+    inside a compiled function (``@kernel``, ``@block``, ``@njit``) of another module must change the cache
+    folder's fingerprint when edited (the state offsets of :mod:`uvms.state`, the columns of
+    :mod:`uvms.dynamics.kernel_model` ...)."""
+    import ast
+    import shutil
+
+    from uvms._cache import _fingerprint
+
+    files = {_module_name(p): p for p in SRC.rglob("*.py")}
+    read = set()
+    for path in files.values():
+        tree = ast.parse(path.read_text())
+        constants = {a.asname or a.name: node.module for node in tree.body if isinstance(node, ast.ImportFrom)
+                     and node.module in files for a in node.names if a.name.isupper()}
+        for node in ast.walk(tree):
+            if isinstance(node, ast.FunctionDef) and any(word in ast.unparse(d) for d in node.decorator_list
+                                                         for word in ("jit", "kernel", "block", "allocating")):
+                read.update(constants[n.id] for n in ast.walk(node) if isinstance(n, ast.Name) and n.id in constants)
+    assert {"uvms.state", "uvms.dynamics.kernel_model", "uvms.kinematics"} <= read
+    package = tmp_path / "uvms"
+    shutil.copytree(SRC, package, ignore=shutil.ignore_patterns("__pycache__"))
+    before = _fingerprint(package)
+    unchanged = []
+    for module in sorted(read):
+        path = package / files[module].relative_to(SRC)
+        text = path.read_text()
+        path.write_text(text + "\n# edited\n")
+        if _fingerprint(package) == before:
+            unchanged.append(module)
+        path.write_text(text)
+    assert not unchanged, unchanged

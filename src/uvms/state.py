@@ -12,7 +12,9 @@ The state vector ``x`` (what the integrators and the compiled kernels hold) pack
 :data:`POSITION`, :data:`QUATERNION`, :data:`NU` and :data:`JOINTS` are the offsets the compiled code slices
 with (``x[NU:JOINTS]`` is ``nu``, ``x[JOINTS:JOINTS + n]`` is ``q``, ``x[JOINTS + n:JOINTS + 2 * n]`` is
 ``qd``, the actuator states start at ``JOINTS + 2 * n``); :class:`StateLayout` is the same layout for Python
-code (slices, size, names of the entries). This module is on the ground floor (``docs/architecture.md``).
+code (slices, size, names of the entries). This module is on the ground floor (``docs/architecture.md``). The
+kernels compiled with :mod:`uvms.jit` read the offsets as compile-time constants, so the kernel cache's
+fingerprint (:mod:`uvms._cache`, which keys on that module's name) covers this file.
 """
 
 from __future__ import annotations

@@ -5,6 +5,9 @@ Body 0 is the vehicle, bodies 1..n the links of a kinematic tree (``parent[i] < 
 arrays is unused padding so that body ``i`` and its joint share an index, as in Featherstone's
 ``model.parent(i)``. Joint ``i``'s motion subspace is the unit 6-vector ``S_i`` (``[axis; 0]`` revolute,
 ``[0; axis]`` prismatic, in the body frame, which is the joint frame).
+
+The kernels compiled with :mod:`uvms.jit` read this module's column and effect indices as compile-time
+constants, so the kernel cache's fingerprint (:mod:`uvms._cache`, which keys on that module's name) covers it.
 """
 
 from __future__ import annotations
