@@ -29,11 +29,11 @@ from pathlib import Path
 
 def _fingerprint(package_dir: Path) -> str:
     """Hash of the modules that hold compiled kernels (those importing numba or the kernels' decorators of
-    :mod:`uvms.dynamics.jit`): editing a controller or the CLI does not invalidate the compiled dynamics."""
+    :mod:`uvms.jit`): editing a controller or the CLI does not invalidate the compiled dynamics."""
     h = hashlib.sha256()
     for path in sorted(package_dir.rglob("*.py")):
         text = path.read_bytes()
-        if b"numba" in text or b"uvms.dynamics.jit" in text:
+        if b"numba" in text or b"uvms.jit" in text:
             h.update(str(path.relative_to(package_dir)).encode() + b"\0" + text)
     return h.hexdigest()[:16]
 

@@ -13,25 +13,55 @@ comparison and a sum of the values as a finiteness test), so the dynamics entry 
 from __future__ import annotations
 
 import math
+import sys
 from numbers import Real
 from typing import Any, Callable
 
 import numpy as np
 
 from uvms.errors import UvmsInputError
-from uvms.model.model import Model as _Model
 
+
+class _NotLoaded:
+    """Stands for a class whose module was never imported: no value is an instance of it."""
+
+
+_Model: type | None = None
 _State: type | None = None
 
 
+def _loaded(module: str, name: str) -> type:
+    """The class ``module.name`` if its module has been imported, else :class:`_NotLoaded`.
+
+    This module is on the ground floor (``docs/architecture.md``): it imports nothing of ``uvms.model`` or
+    :mod:`uvms.state` (both import it), yet an instance of their classes can only exist once they are imported,
+    so the isinstance checks stay exact."""
+    found = getattr(sys.modules.get(module), name, None)
+    return found if isinstance(found, type) else _NotLoaded
+
+
+def _model_class() -> type:
+    """:class:`uvms.model.model.Model` (kept once loaded), or :class:`_NotLoaded`."""
+    global _Model
+    found = _loaded("uvms.model.model", "Model")
+    if found is not _NotLoaded:
+        _Model = found
+    return found
+
+
 def _state_class() -> type:
+    """:class:`uvms.state.State` (kept once loaded), or :class:`_NotLoaded`."""
     global _State
-    if _State is None:                       # uvms.state imports this module: look it up on first use
-        from uvms.state import State
+    found = _loaded("uvms.state", "State")
+    if found is not _NotLoaded:
+        _State = found
+    return found
 
-        _State = State
-    return _State
 
+MAX_RECORDED_VALUES = 2 * 10**8
+"""Largest number of values a run allocates before it starts: its recorded state values (rows times state
+entries, 1.6 GB of float64), those of one :func:`uvms.rollout` batch in all, a noisy IMU's noise table
+(:mod:`uvms.control.imu`). A larger one is refused before anything is allocated."""
 
 _FLOAT64 = np.dtype(np.float64)
 _NUMERIC_KINDS = "iuf"
@@ -168,14 +198,14 @@ def callable_or_none(value: Any, name: str, signature: str) -> Callable | None:
 
 def model(value: Any, name: str = "model"):
     """``value`` if it is a :class:`uvms.Model`."""
-    if isinstance(value, _Model):
+    if isinstance(value, _Model or _model_class()):
         return value
     raise fail(name, f"expected a uvms Model (from uvms.load_model), got {show(value)}")
 
 
 def state(model_: Any, value: Any, name: str = "state"):
     """``value`` if it is a :class:`uvms.State` with the joints of ``model_`` (checked first)."""
-    if not isinstance(model_, _Model):
+    if not isinstance(model_, _Model or _model_class()):
         model(model_)
     if not isinstance(value, _State or _state_class()):
         raise fail(name, f"expected a uvms State (e.g. uvms.State.from_euler(model, ...)), got {show(value)}")

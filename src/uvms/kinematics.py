@@ -14,8 +14,19 @@ import numpy as np
 from numba import njit
 
 from uvms import checks
-from uvms.dynamics.jit import block, kernel
-from uvms.dynamics.kernel_model import JOINT_OFFSET, JOINT_PRISMATIC, JOINT_Z
+from uvms.jit import block, kernel
+from uvms.state import JOINTS, POSITION, QUATERNION
+
+JOINT_Z = 0
+"""Joint kind: revolute about the joint frame's z axis (every modified-DH joint); the kernels' fast path."""
+JOINT_REVOLUTE = 1
+"""Joint kind: revolute (or continuous) about any unit axis."""
+JOINT_PRISMATIC = 2
+"""Joint kind: prismatic along any unit axis."""
+JOINT_OFFSET = 0
+"""Column of a joint's row of parameters (:attr:`uvms.dynamics.kernel_model.KernelModel.joint`) holding its
+offset (the modified-DH theta offset, rad, or a prismatic joint's, m), added to ``q`` before
+:func:`joint_transform`."""
 
 
 @block
@@ -25,7 +36,7 @@ def joint_transform(tree_E, tree_r, kind, S, q, E_out, r_out):
     origin in parent coordinates, so that ``Xup_i = plucker(E_out, r_out)`` (applied by its structure,
     :func:`~uvms.dynamics.blocks.transform_motion`, never formed).
 
-    ``kind`` (:mod:`uvms.dynamics.kernel_model`): ``JOINT_Z`` revolute about z (modified DH),
+    ``kind`` (this module's joint kinds): ``JOINT_Z`` revolute about z (modified DH),
     ``E = Rz(q)^T E_T``; ``JOINT_REVOLUTE`` about the unit axis ``S[0:3]`` (joint-frame coordinates),
     ``E = Rot(axis, q)^T E_T`` by Rodrigues' formula; ``JOINT_PRISMATIC`` along ``S[3:6]``, ``E = E_T``,
     ``r = r_T + E_T^T axis q``. Revolute joints keep ``r = r_T``.
@@ -193,7 +204,7 @@ def frame_poses(model, state) -> dict[str, FramePose]:
 @njit(cache=True)
 def end_effector_path(km, states, out):
     """World end-effector position (``out[k]``, (K, 3)) of every recorded state vector ``states[k]``
-    (:mod:`uvms.sim.integrate` layout), in one compiled loop."""
+    (:mod:`uvms.state` layout), in one compiled loop."""
     nb = km.parent.shape[0]
     n = nb - 1
     R = np.empty((nb + 1, 3, 3))
@@ -203,7 +214,7 @@ def end_effector_path(km, states, out):
     R0 = np.empty((3, 3))
     for k in range(states.shape[0]):
         x = states[k]
-        quaternion_to_rotation(x[3], x[4], x[5], x[6], R0)
-        link_poses(km, R0, x[0:3], x[13:13 + n], R, p, E, r)
+        quaternion_to_rotation(x[QUATERNION], x[QUATERNION + 1], x[QUATERNION + 2], x[QUATERNION + 3], R0)
+        link_poses(km, R0, x[POSITION:QUATERNION], x[JOINTS:JOINTS + n], R, p, E, r)
         for a in range(3):
             out[k, a] = p[nb, a]

@@ -4,6 +4,17 @@
 ``[omega; v]``, rad/s and m/s), ``q`` and ``qd`` (n, joint angles and rates, rad and rad/s) and
 ``actuator`` (thruster states when the thrusters have dynamics, e.g. Healey's ``[Omega_h..., U_h...]``).
 Euler angles and the rotation matrix are derived on request.
+
+The state vector ``x`` (what the integrators and the compiled kernels hold) packs the fields in that order::
+
+    x = [position (3) | quaternion (4) | nu (6) | q (n) | qd (n) | actuator states]
+
+:data:`POSITION`, :data:`QUATERNION`, :data:`NU` and :data:`JOINTS` are the offsets the compiled code slices
+with (``x[NU:JOINTS]`` is ``nu``, ``x[JOINTS:JOINTS + n]`` is ``q``, ``x[JOINTS + n:JOINTS + 2 * n]`` is
+``qd``, the actuator states start at ``JOINTS + 2 * n``); :class:`StateLayout` is the same layout for Python
+code (slices, size, names of the entries). This module is on the ground floor (``docs/architecture.md``). The
+kernels compiled with :mod:`uvms.jit` read the offsets as compile-time constants, so the kernel cache's
+fingerprint (:mod:`uvms._cache`, which keys on that module's name) covers this file.
 """
 
 from __future__ import annotations
@@ -16,6 +27,55 @@ import numpy as np
 from uvms import checks
 from uvms.errors import UvmsInputError, show
 from uvms.rotations import euler_from_quaternion, quaternion_from_euler, rotation_from_quaternion
+
+POSITION, QUATERNION, NU, JOINTS = 0, 3, 7, 13
+"""Offsets in the state vector of the position (3), the quaternion (4), ``nu`` (6) and the joint angles (``n``;
+the joint rates follow at ``JOINTS + n``, the actuator states at ``JOINTS + 2 * n``). ``JOINTS`` is also the
+size of the vehicle's part of the state."""
+
+
+class StateLayout:
+    """The one owner of the state vector's layout for Python code: slices, size and quantity names for
+    ``n_joints`` joints and ``n_actuator`` actuator states (compiled code uses the offsets of this module)."""
+
+    _NAMES = ("x", "y", "z", "qw", "qx", "qy", "qz", "p (roll rate)", "q (pitch rate)", "r (yaw rate)",
+              "u (surge velocity)", "v (sway velocity)", "w (heave velocity)")
+
+    def __init__(self, n_joints: int, n_actuator: int = 0) -> None:
+        self.n_joints, self.n_actuator = int(n_joints), int(n_actuator)
+        n = self.n_joints
+        self.position, self.quaternion, self.nu = (slice(POSITION, QUATERNION), slice(QUATERNION, NU),
+                                                   slice(NU, JOINTS))
+        self.q = slice(JOINTS, JOINTS + n)
+        self.qd = slice(JOINTS + n, JOINTS + 2 * n)
+        self.actuator = slice(JOINTS + 2 * n, JOINTS + 2 * n + self.n_actuator)
+        self.size = JOINTS + 2 * n + self.n_actuator
+
+    def slices(self) -> dict[str, slice]:
+        """Every field's slice, by :class:`State` field name."""
+        return {"position": self.position, "quaternion": self.quaternion, "nu": self.nu, "q": self.q,
+                "qd": self.qd, "actuator": self.actuator}
+
+    def quantity_name(self, index: int) -> str:
+        """What entry ``index`` of the state vector is (for messages)."""
+        n = self.n_joints
+        if index < JOINTS:
+            return self._NAMES[index]
+        if index < JOINTS + n:
+            return f"q{index - JOINTS + 1}"
+        if index < JOINTS + 2 * n:
+            return f"qd{index - JOINTS + 1 - n}"
+        return f"actuator state {index - JOINTS - 2 * n}"
+
+
+def layout(n_joints: int, n_actuator: int) -> dict[str, slice]:
+    """Slices of the state vector (:meth:`StateLayout.slices`)."""
+    return StateLayout(n_joints, n_actuator).slices()
+
+
+def actuator_count(n_joints: int, size: int) -> int:
+    """The number of actuator states of a state vector of ``size`` entries for ``n_joints`` joints."""
+    return size - JOINTS - 2 * n_joints
 
 
 def _vector(value, size: int | None, name: str, what: str = "") -> np.ndarray:
@@ -82,8 +142,8 @@ class State:
         object.__setattr__(self, "_packed", vector)
 
     _packed = None
-    """The fields packed in the simulation's layout ``[position | quaternion | nu | q | qd | actuator]``
-    (:mod:`uvms.sim.integrate`), read-only, of which the fields are views (``None`` for a :meth:`trusted` state
+    """The fields packed in the state vector's layout ``[position | quaternion | nu | q | qd | actuator]``
+    (:class:`StateLayout`), read-only, of which the fields are views (``None`` for a :meth:`trusted` state
     built from separate arrays): the compiled dynamics take it as one argument."""
 
     @classmethod

@@ -37,7 +37,7 @@ def test_transform_force_add_is_the_transposed_plucker_product(rng):
 def test_kernels_count_no_references_and_keep_nan():
     """The kernels are compiled without reference counting (no allocation inside) and without fastmath (a NaN
     input must reach the caller's finiteness check)."""
-    from uvms.dynamics import jit
+    from uvms import jit
 
     assert jit.OPTIONS["_nrt"] is False
     assert "fastmath" not in jit.OPTIONS

@@ -28,11 +28,12 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from uvms.dynamics.jit import kernel
 from uvms.control.kinds import COMPUTED_TORQUE, CONSTANT, PD, SCHEDULE
 from uvms.dynamics.plant import ModelData, empty_model_data, inverse_into, model_data
 from uvms.errors import UvmsInputError
+from uvms.jit import kernel
 from uvms.kinematics import normalised_rotation
+from uvms.state import JOINTS, NU, QUATERNION
 
 @dataclass(frozen=True, eq=False)
 class JointTrajectory:
@@ -282,7 +283,7 @@ def desired_motion(times, angles, breaks, coefficients, t, q_d, qd_d, qdd_d):
 @kernel
 def arm_torques(arm, t, x, tau):
     """The joint torques ``tau`` (n,) [N m] at time ``t`` [s] for the state vector ``x``
-    (:mod:`uvms.sim.integrate` layout)::
+    (:mod:`uvms.state` layout)::
 
         CONSTANT         tau = constant
         SCHEDULE         tau = rows[k], k the last row with times[k] <= (t + half_step) + 1e-12
@@ -303,8 +304,8 @@ def arm_torques(arm, t, x, tau):
         for j in range(n):
             tau[j] = arm.rows[k, j]
         return
-    q = x[13:13 + n]
-    qd = x[13 + n:13 + 2 * n]
+    q = x[JOINTS:JOINTS + n]
+    qd = x[JOINTS + n:JOINTS + 2 * n]
     desired_motion(arm.times, arm.rows, arm.breaks, arm.coefficients, t, arm.desired[0], arm.desired[1],
                    arm.desired[2])
     q_d, qd_d, qdd_d = arm.desired[0], arm.desired[1], arm.desired[2]
@@ -315,7 +316,7 @@ def arm_torques(arm, t, x, tau):
     for j in range(n):
         arm.qdd_ref[j] = qdd_d[j] + arm.kd[j] * (qd_d[j] - qd[j]) + arm.kp[j] * (q_d[j] - q[j])
     for j in range(6):
-        arm.nu[j] = x[7 + j] if arm.moving_base else 0.0
-    normalised_rotation(x[3:7], arm.R)
+        arm.nu[j] = x[NU + j] if arm.moving_base else 0.0
+    normalised_rotation(x[QUATERNION:NU], arm.R)
     inverse_into(arm.model, arm.R, arm.nu, q, qd, arm.zero6, arm.qdd_ref, arm.zero6, arm.current,
                  arm.fluid_acceleration, arm.f0, tau)

@@ -19,7 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from uvms.control.base import Measurement
-from uvms.dynamics.jit import kernel
+from uvms.jit import kernel
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,7 @@ def imu_data(parameters: ImuParameters, period: float, n_samples: int) -> ImuDat
     ``np.random.default_rng(seed).normal(0, noise, 6)``, in the order the samples take them."""
     par = parameters
     noisy = par.noise > 0
-    from uvms.sim.plan import MAX_RECORDED_VALUES
+    from uvms.checks import MAX_RECORDED_VALUES
 
     if noisy and 6 * int(n_samples) > MAX_RECORDED_VALUES:      # the table is drawn before the run: bound it
         from uvms.errors import UvmsInputError

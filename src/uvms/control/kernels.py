@@ -3,10 +3,10 @@
 A :class:`ControllerData` holds everything one controller needs between updates -- its parameters per axis,
 its own model (:class:`uvms.dynamics.plant.ModelData`), its memory (captured set point, PID integrators, the
 IMU's delay line and pre-drawn noise, the update counter) and its scratch -- and :func:`controller_update`
-runs one update on the simulation's state vector ``x`` (layout of :mod:`uvms.sim.integrate`:
+runs one update on the simulation's state vector ``x`` (layout of :mod:`uvms.state`:
 ``[p(3) | quat(4) | nu(6) | q(n) | qd(n) | actuator states]``). The numba type of a ``ControllerData`` is the
 same for every kind (unused fields hold small dummy arrays), so a compiled loop calling it compiles once.
-Every function here is a kernel (:mod:`uvms.dynamics.jit`: no reference counting, no allocation; the two
+Every function here is a kernel (:mod:`uvms.jit`: no reference counting, no allocation; the two
 matrix inverses are in-place Cholesky solves into the named scratch ``L`` and ``column``), so an update costs
 about its own arithmetic (1.8 us for ``smc-ab`` on the paper model, of which 1.3 us are its ABA).
 
@@ -30,10 +30,11 @@ from uvms.control import sliding_kernels as sk
 from uvms.control.imu import ImuData, ImuParameters, imu_data, imu_measure
 from uvms.control.kinds import AB, NE, NONE, SLIDING
 from uvms.dynamics.blocks import cholesky_factor, cholesky_solve
-from uvms.dynamics.jit import block, kernel
 from uvms.dynamics.plant import ModelData, empty_model_data, forward_into, inverse_into, mass_matrix_into
+from uvms.jit import block, kernel
 from uvms.kinematics import normalised_rotation
 from uvms.rotations import euler_zyx
+from uvms.state import JOINTS, NU, POSITION, QUATERNION
 
 # columns of ControllerData.gains (one row per axis slot, uvms.control.sliding_kernels.SURGE ... YAW)
 BANDWIDTH, ETA, PHI, UNCERTAINTY, B_HAT, BETA, B_MODEL, KP, KI, KD, LIMIT = range(11)
@@ -157,8 +158,8 @@ def _set_point(ctrl, t, x):
     count = ctrl.memory[COUNT]
     if count == 0:
         for j in range(3):
-            ctrl.captured[j] = x[j]
-        normalised_rotation(x[3:7], ctrl.R)       # the arithmetic of State.euler
+            ctrl.captured[j] = x[POSITION + j]
+        normalised_rotation(x[QUATERNION:NU], ctrl.R)       # the arithmetic of State.euler
         phi, theta, psi = euler_zyx(ctrl.R)
         ctrl.captured[3] = phi
         ctrl.captured[4] = theta
@@ -179,9 +180,9 @@ def arm_reaction(ctrl, x, tau, a0, out):
         qdd = M_qq^-1 (tau - RNEA_q(a0, 0));   out = RNEA_0(vehicle; a0) - RNEA_0(system; a0, qdd)
     """
     n = ctrl.n_joints
-    nu = x[7:13]
-    q = x[13:13 + n]
-    qd = x[13 + n:13 + 2 * n]
+    nu = x[NU:JOINTS]
+    q = x[JOINTS:JOINTS + n]
+    qd = x[JOINTS + n:JOINTS + 2 * n]
     vc, af, zero6 = ctrl.current, ctrl.fluid_acceleration, ctrl.zero6
     for i in range(n):
         ctrl.qdd[i] = 0.0
@@ -205,10 +206,10 @@ def _predict(ctrl, x, tau, nu_dot_true):
     """The controller model's ``nu_dot`` at ``f_0 = 0`` into ``ctrl.nu_dot``; returns the 6x6 inertia mapping
     a body wrench to ``nu_dot`` in that model (for ``b_source = "model"``)."""
     n = ctrl.n_joints
-    nu = x[7:13]
+    nu = x[NU:JOINTS]
     if ctrl.predictor == AB:
-        forward_into(ctrl.system, ctrl.R, nu, x[13:13 + n], x[13 + n:13 + 2 * n], tau, ctrl.zero6, ctrl.zero6,
-                     ctrl.current, ctrl.fluid_acceleration, False, ctrl.nu_dot, ctrl.qdd)
+        forward_into(ctrl.system, ctrl.R, nu, x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], tau, ctrl.zero6,
+                     ctrl.zero6, ctrl.current, ctrl.fluid_acceleration, False, ctrl.nu_dot, ctrl.qdd)
         return ctrl.system.work.IA[0]
     wrench = ctrl.zero6
     if ctrl.predictor == NE:
@@ -317,7 +318,7 @@ def controller_update(ctrl, t, x, tau, nu_dot_true, wrench):
     if ctrl.kind == NONE:
         return
     _set_point(ctrl, t, x)
-    sk.pose_kinematics_into(x[3:7], x[0:3], x[7:13], ctrl.desired, ctrl.R, ctrl.kin)
+    sk.pose_kinematics_into(x[QUATERNION:NU], x[POSITION:QUATERNION], x[NU:JOINTS], ctrl.desired, ctrl.R, ctrl.kin)
     if ctrl.kind == SLIDING:
         _sliding_mode(ctrl, x, tau, nu_dot_true, wrench)
     else:

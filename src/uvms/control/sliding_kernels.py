@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
-from uvms.dynamics.jit import block, kernel
+from uvms.jit import block, kernel
 from uvms.kinematics import normalised_rotation
 from uvms.rotations import euler_zyx
 

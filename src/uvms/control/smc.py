@@ -297,7 +297,7 @@ def warn_b_bounds(model, parameters: SlidingModeParameters) -> str | None:
 
 
 def state_vector(state) -> np.ndarray:
-    """``[p | quat | nu | q | qd]`` of a :class:`~uvms.state.State` (the layout of :mod:`uvms.sim.integrate`)."""
+    """``[p | quat | nu | q | qd]`` of a :class:`~uvms.state.State` (the layout of :mod:`uvms.state`)."""
     return np.concatenate([state.position, state.quaternion, state.nu, state.q, state.qd]).astype(float)
 
 

@@ -28,9 +28,10 @@ from __future__ import annotations
 from numba import njit
 
 from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, transform_force_add, transform_motion
-from uvms.dynamics.jit import OPTIONS, kernel
-from uvms.dynamics.kernel_model import JOINT_Z, Z_AXIS
+from uvms.dynamics.kernel_model import Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass
+from uvms.jit import OPTIONS, kernel
+from uvms.kinematics import JOINT_Z
 
 
 @kernel

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from uvms.dynamics.jit import block
+from uvms.jit import block
 
 
 @block

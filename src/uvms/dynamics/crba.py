@@ -13,9 +13,10 @@ import numpy as np
 from numba import njit
 
 from uvms.dynamics.blocks import congruence_add_plucker, transform_force_add
-from uvms.dynamics.jit import block, kernel
-from uvms.dynamics.kernel_model import JOINT_OFFSET, JOINT_Z, Z_AXIS
+from uvms.dynamics.kernel_model import Z_AXIS
 from uvms.dynamics.passes import joint_transform
+from uvms.jit import block, kernel
+from uvms.kinematics import JOINT_OFFSET, JOINT_Z
 
 
 @block

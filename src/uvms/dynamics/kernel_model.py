@@ -5,6 +5,9 @@ Body 0 is the vehicle, bodies 1..n the links of a kinematic tree (``parent[i] < 
 arrays is unused padding so that body ``i`` and its joint share an index, as in Featherstone's
 ``model.parent(i)``. Joint ``i``'s motion subspace is the unit 6-vector ``S_i`` (``[axis; 0]`` revolute,
 ``[0; axis]`` prismatic, in the body frame, which is the joint frame).
+
+The kernels compiled with :mod:`uvms.jit` read this module's column and effect indices as compile-time
+constants, so the kernel cache's fingerprint (:mod:`uvms._cache`, which keys on that module's name) covers it.
 """
 
 from __future__ import annotations
@@ -13,21 +16,17 @@ from typing import NamedTuple
 
 import numpy as np
 
+from uvms.kinematics import JOINT_PRISMATIC, JOINT_REVOLUTE, JOINT_Z
 from uvms.spatial import spatial_inertia
 
-JOINT_Z = 0
-"""Joint kind: revolute about the joint frame's z axis (every modified-DH joint); the kernels' fast path."""
 Z_AXIS = 2
 """Index of ``e_z`` in a ``[angular; linear]`` 6-vector: a ``JOINT_Z`` joint's motion subspace is ``S = e_z``, so
 ``S^T x = x[Z_AXIS]``, ``I S = I[:, Z_AXIS]`` and ``v + S qd`` adds ``qd`` to ``v[Z_AXIS]``."""
-JOINT_REVOLUTE = 1
-"""Joint kind: revolute (or continuous) about any unit axis."""
-JOINT_PRISMATIC = 2
-"""Joint kind: prismatic along any unit axis."""
 
-JOINT_OFFSET, DAMPING, FRICTION, INV_SPEED = 0, 1, 2, 3
-"""Columns of :attr:`KernelModel.joint`. (The kernel model packs small per-body parameters into few arrays:
-every array of the named tuple costs time on each kernel call.)"""
+DAMPING, FRICTION, INV_SPEED = 1, 2, 3
+"""Columns of :attr:`KernelModel.joint` after the offset (column ``JOINT_OFFSET = 0``, defined with the joint
+kinds in :mod:`uvms.kinematics`, which reads it). (The kernel model packs small per-body parameters into few
+arrays: every array of the named tuple costs time on each kernel call.)"""
 
 
 class KernelModel(NamedTuple):

@@ -19,16 +19,15 @@ from __future__ import annotations
 import numpy as np
 
 from uvms.dynamics.blocks import crf_mul_add, crm_mul, mat3_vec, mat6_vec, transform_force_add, transform_motion
-from uvms.dynamics.jit import block
-from uvms.dynamics.kernel_model import (ADDED_MASS, BUOYANCY, DAMPING, DRAG, FRICTION, GRAVITY, INV_SPEED, JOINT_OFFSET,
-                                        JOINT_PRISMATIC, JOINT_Z, Z_AXIS)
+from uvms.dynamics.kernel_model import ADDED_MASS, BUOYANCY, DAMPING, DRAG, FRICTION, GRAVITY, INV_SPEED, Z_AXIS
 from uvms.hydro.added_mass import added_mass_force
 from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
 from uvms.hydro.drag import link_drag_force, vehicle_drag_force
 from uvms.hydro.fossen import fossen_damping_force
 from uvms.hydro.shapes import shapes_drag_force
-from uvms.kinematics import joint_transform
+from uvms.jit import block
+from uvms.kinematics import JOINT_OFFSET, JOINT_Z, joint_transform
 
 
 @block

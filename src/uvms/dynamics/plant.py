@@ -30,10 +30,11 @@ from numba.experimental import structref
 
 from uvms.dynamics.aba import aba, aba_inlined
 from uvms.dynamics.crba import crba
-from uvms.dynamics.jit import kernel
 from uvms.dynamics.kernel_model import KernelModel, Workspace, kernel_model_from, make_workspace
 from uvms.dynamics.rnea import rnea
+from uvms.jit import kernel
 from uvms.kinematics import normalised_rotation
+from uvms.state import JOINTS, NU, QUATERNION
 
 DEFAULT_BOUNDS = np.array([1e4, 1e3, 1e3, 1e6])
 """Sane-state limits for divergence detection: |position| [m], |nu| [rad/s, m/s], |qd| [rad/s], |actuator|."""
@@ -75,7 +76,7 @@ class StepScratch(NamedTuple):
 
 class PlantData(NamedTuple):
     """The fields of a :class:`Plant` as a named tuple (:func:`plant_data`): what kernels compiled without
-    reference counting (:mod:`uvms.dynamics.jit`) take, since reading a structure reference needs it."""
+    reference counting (:mod:`uvms.jit`) take, since reading a structure reference needs it."""
 
     body: KernelModel
     work: Workspace
@@ -171,7 +172,7 @@ def build_plant(model, *, thrusters: tuple = (), fluid: FluidTable | None = None
     actuators = actuator_kernel(tuple(thrusters))
     if fluid is None:
         fluid = fluid_table([0.0], [model.current], [model.fluid_acceleration])
-    size = 13 + 2 * model.n_joints + n_actuator_states(actuators)
+    size = JOINTS + 2 * model.n_joints + n_actuator_states(actuators)
     scratch = StepScratch(R=np.zeros((3, 3)), vecs=np.zeros((5, 6)), thrust=np.zeros(max(len(thrusters), 1)),
                           stages=np.zeros((6, size)))
     plant = _new_plant(md.body, md.work, actuators, fluid, scratch, bool(fixed_base),
@@ -216,15 +217,15 @@ def _rotation(plant, quaternion):
 
 @njit(cache=True)
 def plant_forward(plant, x, tau, wrenches, fixed_base, out):
-    """:func:`forward_into` for a state vector ``x`` (layout of :mod:`uvms.sim.integrate`: ``[p | quaternion |
-    nu | q | qd | ...]``), into ``out = [nu_dot (6) | qdd (n)]``; ``wrenches = [body wrench (6) | end-effector
+    """:func:`forward_into` for a state vector ``x`` (layout of :mod:`uvms.state`: ``[p | quaternion | nu |
+    q | qd | ...]``), into ``out = [nu_dot (6) | qdd (n)]``; ``wrenches = [body wrench (6) | end-effector
     wrench (6) | current (3) | fluid acceleration (3)]`` (world-frame current [m/s] and fluid acceleration
     [m/s^2]). Returns whether every acceleration is finite. The ABA is inlined (``aba_inlined``): the call from
     Python is the hot path of :func:`uvms.forward_dynamics`."""
     n = out.shape[0] - 6
-    R = _rotation(plant, x[3:7])
-    aba_inlined(plant.body, plant.work, R, x[7:13], x[13:13 + n], x[13 + n:13 + 2 * n], tau, wrenches[0:6],
-                wrenches[6:12], wrenches[12:15], wrenches[15:18], fixed_base, out[0:6], out[6:])
+    R = _rotation(plant, x[QUATERNION:NU])
+    aba_inlined(plant.body, plant.work, R, x[NU:JOINTS], x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], tau,
+                wrenches[0:6], wrenches[6:12], wrenches[12:15], wrenches[15:18], fixed_base, out[0:6], out[6:])
     for k in range(out.shape[0]):
         if not np.isfinite(out[k]):
             return False
@@ -236,9 +237,9 @@ def plant_inverse(plant, x, u, out):
     """``out = [f_0 (6) | tau (n)]`` by :func:`inverse_into` for a state vector ``x`` (as :func:`plant_forward`)
     and ``u = [nu_dot (6) | qdd (n) | end-effector wrench (6) | current (3) | fluid acceleration (3)]``."""
     n = out.shape[0] - 6
-    R = _rotation(plant, x[3:7])
-    rnea(plant.body, plant.work, R, x[7:13], x[13:13 + n], x[13 + n:13 + 2 * n], u[0:6], u[6:6 + n],
-         u[6 + n:12 + n], u[12 + n:15 + n], u[15 + n:18 + n], out[0:6], out[6:6 + n])
+    R = _rotation(plant, x[QUATERNION:NU])
+    rnea(plant.body, plant.work, R, x[NU:JOINTS], x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], u[0:6],
+         u[6:6 + n], u[6 + n:12 + n], u[12 + n:15 + n], u[15 + n:18 + n], out[0:6], out[6:6 + n])
 
 
 @njit(cache=True)

@@ -14,12 +14,11 @@ Given ``nu_dot`` and ``qdd``, the vehicle wrench ``f_0`` and joint torques ``tau
 
 from __future__ import annotations
 
-from uvms.dynamics.jit import kernel
-
 from uvms.dynamics.blocks import mat6_vec, transform_force_add, transform_motion
-from uvms.dynamics.jit import kernel
-from uvms.dynamics.kernel_model import JOINT_Z, Z_AXIS
+from uvms.dynamics.kernel_model import Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass
+from uvms.jit import kernel
+from uvms.kinematics import JOINT_Z
 
 
 @kernel

@@ -7,6 +7,7 @@ from numba import njit
 
 from uvms.kinematics import quaternion_to_rotation
 from uvms.rotations import attitude_error
+from uvms.state import JOINTS, NU, POSITION, QUATERNION
 from uvms.thrusters.kinds import command_for_thrust
 
 
@@ -30,20 +31,21 @@ def observe_rows(x, target_position, target_quaternion, n_joints, n_thrusts, lim
     for k in range(x.shape[0]):
         row = x[k]
         o = out[k]
-        norm = np.sqrt(row[3] ** 2 + row[4] ** 2 + row[5] ** 2 + row[6] ** 2)
+        norm = np.sqrt(row[QUATERNION] ** 2 + row[QUATERNION + 1] ** 2 + row[QUATERNION + 2] ** 2
+                       + row[QUATERNION + 3] ** 2)
         for j in range(4):
-            quaternion[j] = row[3 + j] / norm
+            quaternion[j] = row[QUATERNION + j] / norm
         quaternion_to_rotation(quaternion[0], quaternion[1], quaternion[2], quaternion[3], R)
         for i in range(3):
-            o[i] = row[i] - target_position[i]
+            o[i] = row[POSITION + i] - target_position[i]
         for i in range(3):
             o[3 + i] = R[0, i] * o[0] + R[1, i] * o[1] + R[2, i] * o[2]
         attitude_error(target_quaternion, quaternion, o[6:9])
         m = 6 + 2 * n_joints
         for j in range(m):
-            o[9 + j] = row[7 + j]
+            o[9 + j] = row[NU + j]
         for j in range(n_thrusts):
-            o[9 + m + j] = row[13 + 2 * n_joints + j]
+            o[9 + m + j] = row[JOINTS + 2 * n_joints + j]
         for j in range(o.shape[0]):
             v = o[j]
             if not np.isfinite(v):

@@ -2,7 +2,7 @@
 (:class:`StationKeepingConfig`), spaces, randomised episodes (:class:`Episode`), and the observation, reward
 and end of an episode computed from state vectors, for any number of environments at once (numpy over rows).
 
-Everything is in SI units; state vectors are laid out as :mod:`uvms.sim.integrate` lays them out
+Everything is in SI units; state vectors are laid out as :mod:`uvms.state` lays them out
 (``[p(3) world | quaternion(4, wxyz, body to world) | nu(6) = [omega; v] body | q(n) | qd(n) | actuator]``,
 docs/conventions.md). Rotations: ``R(quaternion)`` maps body to world axes (Hamilton product).
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from uvms.dynamics.jit import block
+from uvms.jit import block
 
 
 def cylinder_added_mass(density: float, radius: float, length: float) -> np.ndarray:

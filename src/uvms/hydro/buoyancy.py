@@ -8,7 +8,7 @@ by ``R^T``. The paper's vehicle has ``m_f = m`` and ``b`` above the CoM (z down)
 
 from __future__ import annotations
 
-from uvms.dynamics.jit import block
+from uvms.jit import block
 
 
 @block

@@ -9,7 +9,7 @@ fluid is the same as in still water (Galilean invariance; tested in ``tests/hydr
 
 from __future__ import annotations
 
-from uvms.dynamics.jit import block
+from uvms.jit import block
 
 
 @block

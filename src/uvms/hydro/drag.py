@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from uvms.dynamics.jit import block
+from uvms.jit import block
 
 GAUSS_POINTS = 8
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(GAUSS_POINTS)

@@ -41,8 +41,8 @@ from typing import Mapping
 
 import numpy as np
 
-from uvms.dynamics.jit import block
 from uvms.errors import UvmsInputError, show
+from uvms.jit import block
 
 FORCE_INDEX = {"K": 0, "M": 1, "N": 2, "X": 3, "Y": 4, "Z": 5}
 VELOCITY_INDEX = {"p": 0, "q": 1, "r": 2, "u": 3, "v": 4, "w": 5}

@@ -49,9 +49,9 @@ from typing import Sequence, Union
 
 import numpy as np
 
-from uvms.dynamics.jit import block, kernel
 from uvms.hydro.added_mass import cylinder_added_mass
 from uvms.hydro.drag import link_drag_force
+from uvms.jit import block, kernel
 from uvms.spatial import plucker_from_pose
 
 # ----------------------------------------------------------------------------------------------------------
@@ -478,6 +478,18 @@ def drag_table(shapes: Sequence[Shape], density: float) -> np.ndarray:
         else:
             raise TypeError(f"not a shape: {type(s).__name__}")
     return table
+
+
+def shape_drag_tables(shapes_per_body: Sequence[Sequence[Shape]]) -> np.ndarray:
+    """``(nb, k, DRAG_ROW)`` drag tables (:func:`drag_table`) of the bodies' shapes **per unit fluid density**
+    (the kernel model multiplies the coefficient columns by ``Model.density``, so a density override applies to
+    them), padded with zero rows (the count of real rows is ``Model.shape_count``)."""
+    k = max([len(s) for s in shapes_per_body] + [0])
+    out = np.zeros((len(shapes_per_body), k, DRAG_ROW))
+    for i, shapes in enumerate(shapes_per_body):
+        if shapes:
+            out[i, :len(shapes)] = drag_table(shapes, 1.0)
+    return out
 
 
 def drag_workspace() -> np.ndarray:

@@ -71,20 +71,6 @@ def shape_objects(specs) -> list:
     return out
 
 
-def shape_drag_tables(shapes_per_body: list[list]) -> np.ndarray:
-    """``(nb, k, DRAG_ROW)`` drag tables of the bodies' shapes **per unit fluid density** (the kernel model
-    multiplies the coefficient columns by ``Model.density``, so a density override applies to them), padded
-    with zero rows (the count of real rows is ``Model.shape_count``)."""
-    from uvms.hydro.shapes import DRAG_ROW, drag_table
-
-    k = max([len(s) for s in shapes_per_body] + [0])
-    out = np.zeros((len(shapes_per_body), k, DRAG_ROW))
-    for i, shapes in enumerate(shapes_per_body):
-        if shapes:
-            out[i, :len(shapes)] = drag_table(shapes, 1.0)
-    return out
-
-
 def _thrusters(spec: ModelSpec | UrdfModelSpec, source: str | None) -> tuple:
     """The thrusters of a model file; a table thruster's CSV is read beside the file."""
     from pathlib import Path
@@ -112,6 +98,8 @@ def _joints(arm: ArmSpec | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
 
 def build_model(spec: ModelSpec, source: str | None = None) -> Model:
     """The frozen :class:`Model` of a validated model file; ``source`` is recorded as ``Model.source``."""
+    from uvms.hydro.shapes import shape_drag_tables
+
     env, vehicle = spec.environment, spec.vehicle
     links = spec.arm.links if spec.arm is not None else ()
     bodies: list[VehicleSpec | LinkSpec] = [vehicle, *links]

@@ -556,7 +556,7 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, place: _Placement, sources: tupl
 
 def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str) -> Model:
     """The :class:`Model` of the bodies (in tree order), their joints' axes and the frames."""
-    from uvms.model.build import shape_drag_tables
+    from uvms.hydro.shapes import shape_drag_tables
 
     nb = len(bodies)
     n = nb - 1

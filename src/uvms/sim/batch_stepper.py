@@ -10,8 +10,8 @@ starts at ``t = k h``), so a member's trajectory is, to the last bit, the one it
 for the same calls (tested). ``benchmarks/bench_gym.py`` compares one thread (one compiled call over all
 members) with two.
 
-The state vectors are laid out as :mod:`uvms.sim.integrate` lays them out
-(``[p(3) | quaternion(4, wxyz) | nu(6) | q(n) | qd(n) | actuator states]``, :class:`~uvms.sim.integrate.StateLayout`).
+The state vectors are laid out as :mod:`uvms.state` lays them out
+(``[p(3) | quaternion(4, wxyz) | nu(6) | q(n) | qd(n) | actuator states]``, :class:`~uvms.state.StateLayout`).
 """
 
 from __future__ import annotations

@@ -24,9 +24,10 @@ from numba.experimental import structref
 
 from uvms.control.arm import arm_torques
 from uvms.control.kernels import controller_update
-from uvms.dynamics.jit import kernel
 from uvms.dynamics.plant import plant_data
+from uvms.jit import kernel
 from uvms.sim.integrate import derivative_kernel, rk4_steps
+from uvms.state import JOINTS, NU
 from uvms.thrusters.command import allocate_command
 
 
@@ -120,7 +121,7 @@ def _update(plant, held, control, schedule, x, done):
         ctrl = control.controller
         if ctrl.needs_acceleration:
             derivative_kernel(plant, held, t, x, control.xdot)
-        controller_update(ctrl, t, x, held.joint_torques, control.xdot[7:13], control.wrench)
+        controller_update(ctrl, t, x, held.joint_torques, control.xdot[NU:JOINTS], control.wrench)
         allocate_command(control.allocation, control.wrench, held.command, control.allocation_signals)
         s = control.signals
         k = 0
@@ -141,7 +142,7 @@ def advance(plant, held, control, schedule, record, log, x, start, stop):
     :class:`~uvms.dynamics.plant.PlantData`. Returns ``(done, code)``: ``code`` 0, or
     :func:`~uvms.sim.integrate.check_state`'s code of the step that left the sane range.
 
-    A kernel (:mod:`uvms.dynamics.jit`: no reference counting): taking the controller's ~170 arrays out of
+    A kernel (:mod:`uvms.jit`: no reference counting): taking the controller's ~170 arrays out of
     ``control`` in a reference-counted function costs an atomic increment and decrement each at every update,
     several times the cost of the update itself."""
     done = start

@@ -1,6 +1,7 @@
 """The state vector, its time derivative, and the compiled fixed-step RK4 loop (paper Section 4).
 
-State vector ``x`` (what is integrated; :class:`~uvms.state.State` is its labelled form)::
+State vector ``x`` (what is integrated; :class:`~uvms.state.State` is its labelled form, :mod:`uvms.state` the
+owner of its layout)::
 
     x = [p (3, world, m) | quaternion (4, [w x y z], body to world) | nu (6, [omega; v], body axes)
          | q (n) | qd (n) | actuator states]
@@ -21,49 +22,11 @@ import numpy as np
 from numba import njit
 
 from uvms.dynamics.aba import aba_inlined
-from uvms.dynamics.jit import block, kernel
 from uvms.dynamics.plant import plant_data
+from uvms.jit import block, kernel
 from uvms.kinematics import quaternion_to_rotation
-from uvms.state import State
+from uvms.state import JOINTS, NU, POSITION, QUATERNION, State
 from uvms.thrusters.actuation import actuator_rates
-
-
-class StateLayout:
-    """The one owner of the state vector's layout: slices, size and quantity names for ``n_joints`` joints and
-    ``n_actuator`` actuator states (compiled code uses the same offsets: 0, 3, 7, 13, 13 + n, 13 + 2 n)."""
-
-    POSITION, QUATERNION, NU, JOINTS = slice(0, 3), slice(3, 7), slice(7, 13), 13
-    _NAMES = ("x", "y", "z", "qw", "qx", "qy", "qz", "p (roll rate)", "q (pitch rate)", "r (yaw rate)",
-              "u (surge velocity)", "v (sway velocity)", "w (heave velocity)")
-
-    def __init__(self, n_joints: int, n_actuator: int = 0) -> None:
-        self.n_joints, self.n_actuator = int(n_joints), int(n_actuator)
-        n = self.n_joints
-        self.q = slice(13, 13 + n)
-        self.qd = slice(13 + n, 13 + 2 * n)
-        self.actuator = slice(13 + 2 * n, 13 + 2 * n + self.n_actuator)
-        self.size = 13 + 2 * n + self.n_actuator
-
-    def slices(self) -> dict[str, slice]:
-        """Every field's slice, by :class:`~uvms.state.State` field name."""
-        return {"position": self.POSITION, "quaternion": self.QUATERNION, "nu": self.NU, "q": self.q,
-                "qd": self.qd, "actuator": self.actuator}
-
-    def quantity_name(self, index: int) -> str:
-        """What entry ``index`` of the state vector is (for messages)."""
-        n = self.n_joints
-        if index < 13:
-            return self._NAMES[index]
-        if index < 13 + n:
-            return f"q{index - 12}"
-        if index < 13 + 2 * n:
-            return f"qd{index - 12 - n}"
-        return f"actuator state {index - 13 - 2 * n}"
-
-
-def layout(n_joints: int, n_actuator: int) -> dict[str, slice]:
-    """Slices of the state vector (:meth:`StateLayout.slices`)."""
-    return StateLayout(n_joints, n_actuator).slices()
 
 
 def pack(state) -> np.ndarray:
@@ -79,14 +42,15 @@ def unpack(x: np.ndarray, n_joints: int):
     """The :class:`~uvms.state.State` of ``x`` (one copy of ``x``; the fields are read-only views of it)."""
     n = n_joints
     if type(n) is not int and not isinstance(n, np.integer) or n < 0 or not isinstance(x, np.ndarray) \
-            or x.ndim != 1 or x.size < 13 + 2 * n or x.dtype.kind != "f":
+            or x.ndim != 1 or x.size < JOINTS + 2 * n or x.dtype.kind != "f":
         from uvms.checks import fail, show
 
         raise fail("x", f"expected a float state vector of at least 13 + 2 n values for n_joints = {n!r} "
-                        f"(uvms.sim.integrate layout), got {show(x)}")
+                        f"(uvms.state layout), got {show(x)}")
     c = x.copy()
     c.flags.writeable = False
-    return State.trusted(c[0:3], c[3:7], c[7:13], c[13:13 + n], c[13 + n:13 + 2 * n], c[13 + 2 * n:], c)
+    return State.trusted(c[POSITION:QUATERNION], c[QUATERNION:NU], c[NU:JOINTS], c[JOINTS:JOINTS + n],
+                         c[JOINTS + n:JOINTS + 2 * n], c[JOINTS + 2 * n:], c)
 
 
 class Samples(NamedTuple):
@@ -139,11 +103,11 @@ def state_derivative(plant, held, t, x, xdot):
     vecs = scratch.vecs
     nb = body.parent.shape[0]
     n = nb - 1
-    qw, qx, qy, qz = x[3], x[4], x[5], x[6]
+    qw, qx, qy, qz = x[QUATERNION], x[QUATERNION + 1], x[QUATERNION + 2], x[QUATERNION + 3]
     norm = np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     qw, qx, qy, qz = qw / norm, qx / norm, qy / norm, qz / norm
     quaternion_to_rotation(qw, qx, qy, qz, R)
-    a0 = 13 + 2 * n
+    a0 = JOINTS + 2 * n
     f_body = vecs[0]
     actuator_rates(plant.actuators, x[a0:], held.command, f_body, xdot[a0:], scratch.thrust)
     for k in range(6):
@@ -156,18 +120,18 @@ def state_derivative(plant, held, t, x, xdot):
     nu = vecs[3]
     fixed_base = plant.fixed_base
     for k in range(6):
-        nu[k] = 0.0 if fixed_base else x[7 + k]
-    aba_inlined(body, plant.work, R, nu, x[13:13 + n], x[13 + n:13 + 2 * n], held.joint_torques, f_body,
-                held.ee_wrench, vc, af, fixed_base, xdot[7:13], xdot[13 + n:13 + 2 * n])
+        nu[k] = 0.0 if fixed_base else x[NU + k]
+    aba_inlined(body, plant.work, R, nu, x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], held.joint_torques,
+                f_body, held.ee_wrench, vc, af, fixed_base, xdot[NU:JOINTS], xdot[JOINTS + n:JOINTS + 2 * n])
     w0, w1, w2 = nu[0], nu[1], nu[2]
     for r in range(3):
-        xdot[r] = R[r, 0] * nu[3] + R[r, 1] * nu[4] + R[r, 2] * nu[5]
-    xdot[3] = 0.5 * (-qx * w0 - qy * w1 - qz * w2)
-    xdot[4] = 0.5 * (qw * w0 + qy * w2 - qz * w1)
-    xdot[5] = 0.5 * (qw * w1 + qz * w0 - qx * w2)
-    xdot[6] = 0.5 * (qw * w2 + qx * w1 - qy * w0)
+        xdot[POSITION + r] = R[r, 0] * nu[3] + R[r, 1] * nu[4] + R[r, 2] * nu[5]
+    xdot[QUATERNION] = 0.5 * (-qx * w0 - qy * w1 - qz * w2)
+    xdot[QUATERNION + 1] = 0.5 * (qw * w0 + qy * w2 - qz * w1)
+    xdot[QUATERNION + 2] = 0.5 * (qw * w1 + qz * w0 - qx * w2)
+    xdot[QUATERNION + 3] = 0.5 * (qw * w2 + qx * w1 - qy * w0)
     for j in range(n):
-        xdot[13 + j] = x[13 + n + j]
+        xdot[JOINTS + j] = x[JOINTS + n + j]
 
 
 @kernel
@@ -193,15 +157,15 @@ def check_state(x, n, bounds):
             return -(k + 1)
     for k in range(x.shape[0]):
         v = abs(x[k])
-        if k < 3:
+        if k < QUATERNION:
             lim = bounds[0]
-        elif k < 7:
+        elif k < NU:
             continue
-        elif k < 13:
+        elif k < JOINTS:
             lim = bounds[1]
-        elif k < 13 + n:
+        elif k < JOINTS + n:
             continue
-        elif k < 13 + 2 * n:
+        elif k < JOINTS + 2 * n:
             lim = bounds[2]
         else:
             lim = bounds[3]
@@ -255,8 +219,8 @@ def rk4_steps(plant, held, x, t0, h, n_steps, step0, record):
                     xt[k] = x[k] + c * ks[k]
         for k in range(N):
             x[k] += h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k])
-        norm = np.sqrt(x[3] ** 2 + x[4] ** 2 + x[5] ** 2 + x[6] ** 2)
-        for k in range(3, 7):
+        norm = np.sqrt(x[QUATERNION] ** 2 + x[QUATERNION + 1] ** 2 + x[QUATERNION + 2] ** 2 + x[QUATERNION + 3] ** 2)
+        for k in range(QUATERNION, NU):
             x[k] /= norm
         code = check_state(x, n, bounds)
         if code != 0:

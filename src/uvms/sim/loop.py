@@ -21,6 +21,7 @@ import numpy as np
 from uvms import checks
 from uvms.control.base import ControlOutput, Measurement
 from uvms.sim.integrate import check_state, derivative, rk4, unpack
+from uvms.state import JOINTS, NU, QUATERNION
 
 COMMAND_NAMES = tuple(f"command_{a}" for a in ("K", "M", "N", "X", "Y", "Z"))
 """Logged commanded body wrench ``[K, M, N, X, Y, Z]`` (moments about and forces along the body axes)."""
@@ -116,7 +117,7 @@ class AdaptiveSegments:
                         max_step=max(h, 1e-6) * 50, t_eval=t_eval)
         for j in range(sol.y.shape[1]):                 # every output sample is checked, as RK4 checks every step
             y = sol.y[:, j].copy()
-            y[3:7] /= np.linalg.norm(y[3:7])
+            y[QUATERNION:NU] /= np.linalg.norm(y[QUATERNION:NU])
             code = check_state(y, plan.layout.n_joints, plan.recording.bounds)
             k = int(round(sol.t[j] / h))
             x[:] = y
@@ -156,7 +157,7 @@ class PythonController:
 
         def evaluate():
             derivative(plan.plant, plan.held, t, x, self.xdot)
-            return self.xdot[7:13].copy()
+            return self.xdot[NU:JOINTS].copy()
         return evaluate
 
     def __call__(self, t: float, state) -> dict:

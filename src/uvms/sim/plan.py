@@ -12,11 +12,12 @@ from typing import Any
 import numpy as np
 
 from uvms import checks
+from uvms.checks import MAX_RECORDED_VALUES
 from uvms.dynamics.plant import FluidTable, Held, Plant, build_plant, fluid_table, held_inputs
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
-from uvms.sim.integrate import Samples, StateLayout, pack, samples
+from uvms.sim.integrate import Samples, pack, samples
 from uvms.sim.options import Actuation, Adaptive, Inputs, Recording, Rk4
-from uvms.state import State
+from uvms.state import JOINTS, State, StateLayout
 
 MAX_STEPS = 10**9
 """Largest number of steps in one run (duration / step): ~3 hours of computing at 10 us per step."""
@@ -24,9 +25,6 @@ MAX_STEPS = 10**9
 MAX_SAMPLES = 20000
 """Default largest number of recorded samples of a run (``Recording.period`` unset)."""
 
-MAX_RECORDED_VALUES = 2 * 10**8
-"""Largest number of recorded state values (rows times state entries, 1.6 GB of float64) of one run, and of one
-:func:`uvms.rollout` batch in all: a larger record is refused before anything is allocated."""
 
 
 def check_record_size(rows: int, size: int, name: str = "record_period", what: str = "") -> None:
@@ -201,7 +199,7 @@ class RunPlan:
         if inputs.fixed_base:
             state = state.replace(nu=np.zeros(6))
         every = record_every(timing, recording)
-        check_record_size(timing.n_total // every + 2, 13 + 2 * model.n_joints + n_act)
+        check_record_size(timing.n_total // every + 2, JOINTS + 2 * model.n_joints + n_act)
         plant, _ = build_plant(model, thrusters=actuation.thrusters,
                                fluid=current_table(model, inputs.current, timing), fixed_base=inputs.fixed_base,
                                bounds=recording.bounds)

@@ -12,6 +12,7 @@ from uvms.dynamics.plant import kernel_model
 from uvms.kinematics import end_effector_path
 from uvms.sim.health import actuation_metadata, set_point_metadata
 from uvms.sim.result import Result
+from uvms.state import JOINTS
 
 
 def held_signals(per_update: list[dict[str, float]], which: np.ndarray) -> dict[str, np.ndarray]:
@@ -141,7 +142,7 @@ def report_joint_limits(model, t, x, tau, meta: dict) -> None:
     from uvms.model.limits import joint_limit_crossings
 
     n = model.n_joints
-    lines = joint_limit_crossings(model, t, x[:, 13:13 + n], x[:, 13 + n:13 + 2 * n], tau)
+    lines = joint_limit_crossings(model, t, x[:, JOINTS:JOINTS + n], x[:, JOINTS + n:JOINTS + 2 * n], tau)
     if lines:
         import warnings
 

@@ -17,7 +17,7 @@ import numpy as np
 from uvms.output import atomic_write_text  # noqa: F401  (re-exported: result files are written through it)
 from uvms.errors import UvmsInputError, show
 
-# uvms.rotations and uvms.sim.integrate (numba) are imported where used: reading a run folder's files, and
+# uvms.rotations and uvms.state (numba) are imported where used: reading a run folder's files, and
 # refusing a bad one, does not wait for the compiler to load.
 
 
@@ -39,7 +39,7 @@ class Result:
 
     Attributes:
         time: (K,) [s].
-        states: (K, N) state vectors (:mod:`uvms.sim.integrate` layout).
+        states: (K, N) state vectors (:mod:`uvms.state` layout).
         n_joints: arm joints ``n``.
         end_effector: (K, 3) end-effector position in the world [m].
         joint_torques: (K, n) applied joint torques [N m].
@@ -60,9 +60,9 @@ class Result:
     metadata: dict[str, Any] = field(default_factory=dict)
 
     def _slice(self, name: str) -> np.ndarray:
-        from uvms.sim.integrate import layout
+        from uvms.state import actuator_count, layout
 
-        n_act = self.states.shape[1] - 13 - 2 * self.n_joints
+        n_act = actuator_count(self.n_joints, self.states.shape[1])
         return self.states[:, layout(self.n_joints, n_act)[name]]
 
     @property
@@ -287,14 +287,13 @@ class Result:
 
     def state(self, k: int):
         """The :class:`~uvms.state.State` of sample ``k`` (negative counts from the end)."""
-        from uvms.sim.integrate import layout
-        from uvms.state import State
+        from uvms.state import State, actuator_count, layout
 
         K = len(self.time)
         if not -K <= int(k) < K:
             raise IndexError(f"sample {k} out of range: the run has {K} samples")
         x = self.states[int(k)]
-        sl = layout(self.n_joints, self.states.shape[1] - 13 - 2 * self.n_joints)
+        sl = layout(self.n_joints, actuator_count(self.n_joints, self.states.shape[1]))
         return State(position=x[sl["position"]], quaternion=x[sl["quaternion"]], nu=x[sl["nu"]], q=x[sl["q"]],
                      qd=x[sl["qd"]], actuator=x[sl["actuator"]])
 

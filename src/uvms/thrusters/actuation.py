@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from uvms.dynamics.jit import kernel
+from uvms.jit import kernel
 from uvms.thrusters import first_order, healey, ideal
 from uvms.thrusters.kinds import N_STATES, kind_of, thruster_rates
 from uvms.thrusters.layouts import layout_matrix

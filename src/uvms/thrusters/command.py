@@ -31,7 +31,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from uvms.dynamics.jit import allocating, kernel
+from uvms.jit import allocating, kernel
 from uvms.thrusters.kinds import command_for_thrust, kind_of
 
 LABELS = ("K", "M", "N", "X", "Y", "Z")

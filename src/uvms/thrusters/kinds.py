@@ -22,7 +22,7 @@ kind            state  command                                    module
 
 from __future__ import annotations
 
-from uvms.dynamics.jit import block
+from uvms.jit import block
 from uvms.thrusters import first_order, healey, ideal, table
 
 IDEAL, FIRST_ORDER, HEALEY, TABLE = 0, 1, 2, 3

@@ -1,4 +1,7 @@
-"""The compile options of every dynamics and hydrodynamics kernel (one place, so they cannot drift apart).
+"""The compile options of every compiled kernel (one place, so they cannot drift apart).
+
+The ground floor (``docs/architecture.md``): physics, dynamics, control and the simulation core all compile
+with these decorators, so this module imports nothing of uvms.
 
 - ``cache=True``: compiled once, loaded from disk by later processes.
 - ``_nrt=False``: no reference counting. The kernels never allocate; they only read and write arrays their
