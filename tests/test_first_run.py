@@ -82,7 +82,7 @@ def test_a_cold_first_call_from_python_says_so_once_and_a_warm_one_says_nothing(
 
 def test_a_long_compile_says_how_it_goes_every_few_seconds(monkeypatch):
     said: list[str] = []
-    monkeypatch.setattr(_cache, "_writer", said.append)
+    monkeypatch.setattr(_compile_watch, "writer", said.append)
     watch = _compile_watch.CompileWatch(heartbeat_s=0.05)
     watch.noticed = True                      # the notice is tested above; here the progress lines
     watch.begin("uvms.sim.compiled_loop.advance_loop")
@@ -104,8 +104,8 @@ def test_a_long_compile_says_how_it_goes_every_few_seconds(monkeypatch):
 
 def test_a_short_compile_says_only_the_notice(monkeypatch):
     said: list[str] = []
-    monkeypatch.setattr(_cache, "_writer", said.append)
-    monkeypatch.setattr(_cache, "_said", False)
+    monkeypatch.setattr(_compile_watch, "writer", said.append)
+    monkeypatch.setattr(_compile_watch, "notice_said", False)
     watch = _compile_watch.CompileWatch(heartbeat_s=5.0)
     watch.begin("uvms.rotations.euler_zyx")
     watch.end()

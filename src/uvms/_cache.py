@@ -26,6 +26,9 @@ import os
 import sys
 from pathlib import Path
 
+from uvms import _compile_watch
+from uvms._compile_watch import FIRST_COMPILE_MINUTES
+
 
 def _fingerprint(package_dir: Path) -> str:
     """Hash of the modules that hold compiled kernels (those importing numba or the kernels' decorators of
@@ -166,9 +169,6 @@ FIRST_COMPILE_NOTICE = ("uvms: compiling the numerical kernels for this machine 
                         "later runs start in about a second)")
 """What the CLI says once when the compiled kernels are not cached yet (instead of a progress bar at 0)."""
 
-FIRST_COMPILE_MINUTES = "2-3 minutes"
-"""The cold-cache compile time measured on a 2-core machine: ``uvms run paper_case3_controlled`` 165 s,
-``uvms run bluerov2_heavy_alpha5_hold6`` 149 s, a first ``uvms sweep --workers 2`` 168 s (warm: under 3 s)."""
 
 
 def compiled_before(kernel: str = "compiled_loop.advance_loop") -> bool:
@@ -185,45 +185,30 @@ def compiled_before(kernel: str = "compiled_loop.advance_loop") -> bool:
 
 _announce = None
 """Where :func:`announce_compile` says it (set by the CLI: stderr); ``None``: say nothing (library use)."""
-_writer = None
-"""Where :mod:`uvms._compile_watch` says what compiles (set by the CLI: stderr); ``None``: the logger."""
-_said = False
 
 
 def set_compile_notice(write) -> None:
     """Let :func:`announce_compile` call ``write(text)`` (once per process), and the compile watch say its
     progress lines through ``write`` (``None``: through the ``uvms.compile`` logger)."""
-    global _announce, _writer
-    _announce = _writer = write
-
-
-def compile_writer():
-    """The writer set by :func:`set_compile_notice` (``None``: the logger)."""
-    return _writer
-
-
-def notice_said() -> bool:
-    """Whether :func:`announce_compile` said the first-compile notice in this process."""
-    return _said
+    global _announce
+    _announce = _compile_watch.writer = write
 
 
 def watch_compiles() -> None:
     """Say what compiles while it compiles (:mod:`uvms._compile_watch`; numba is imported by then)."""
-    from uvms._compile_watch import install
-
-    install()
+    _compile_watch.install()
 
 
 def announce_compile() -> bool:
     """Just before the first compiled run of the process (its inputs checked): if the kernels are not cached
     yet, say :data:`FIRST_COMPILE_NOTICE` through the function given to :func:`set_compile_notice`, once.
     Returns whether it was said."""
-    global _announce, _said
+    global _announce
     write, _announce = _announce, None
     if write is None or compiled_before():
         return False
     write(FIRST_COMPILE_NOTICE.format(minutes=FIRST_COMPILE_MINUTES))
-    _said = True
+    _compile_watch.notice_said = True
     return True
 
 

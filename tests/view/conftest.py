@@ -51,7 +51,7 @@ def short_run(tmp_path_factory):
 def synthetic_result(model, K: int = 41, duration: float = 2.0):
     """A run with known motion: the vehicle moves 0.4 m north and yaws 90 degrees, joint 1 turns by pi, and
     the surge_port thruster's command ramps from -10 N to +20 N (the others hold 5 N)."""
-    from uvms.kinematics import forward_kinematics
+    from uvms.dynamics.poses import forward_kinematics
     from uvms.rotations import quaternion_from_euler
     from uvms.sim.result import Result
     from uvms.state import State

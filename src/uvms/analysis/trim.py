@@ -94,7 +94,7 @@ def joint_values(model, q) -> np.ndarray:
 
 def centres(model, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """World points (vehicle level at the origin) of every body's centre of mass and of buoyancy, (nb, 3) each."""
-    from uvms.kinematics import forward_kinematics
+    from uvms.dynamics.poses import forward_kinematics
     from uvms.state import State
 
     poses = forward_kinematics(model, State.from_euler(model, q=q))

@@ -17,7 +17,7 @@ from uvms.dynamics.api import mass_matrix
 from uvms.dynamics.kernel_model import make_workspace
 from uvms.dynamics.passes import outward_pass
 from uvms.dynamics.plant import kernel_model
-from uvms.kinematics import forward_kinematics
+from uvms.dynamics.poses import forward_kinematics
 
 
 def kinetic_energy(model, state) -> float:

@@ -80,7 +80,7 @@ def state_at(model, state=None, *, q=None):
 
 
 def _snapshot(model, state, q, thrusters):
-    from uvms.kinematics import forward_kinematics
+    from uvms.dynamics.poses import forward_kinematics
     from uvms.view.scene import pose_scene, scene_from_model
 
     state = state_at(model, state, q=q)

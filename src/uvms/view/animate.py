@@ -114,7 +114,7 @@ def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_f
            thrusters=None, title: str | None = None) -> Replay:
     """The frames of ``result`` (a :class:`~uvms.sim.result.Result`) drawn with ``model``'s scene; ``thrusters``
     (default: the model's) are the run's thruster layout."""
-    from uvms.kinematics import forward_kinematics
+    from uvms.dynamics.poses import forward_kinematics
 
     if len(result.time) == 0:
         raise UvmsInputError("the run has no samples to show")

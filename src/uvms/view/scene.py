@@ -411,7 +411,7 @@ def equal_ranges(points: np.ndarray, pad: float = 0.08) -> np.ndarray:
 
 def body_poses(model, state) -> tuple[np.ndarray, np.ndarray]:
     """(rotation, position) of every body and the end effector at ``state`` (:func:`uvms.forward_kinematics`)."""
-    from uvms.kinematics import forward_kinematics
+    from uvms.dynamics.poses import forward_kinematics
 
     poses = forward_kinematics(model, state)
     return poses.rotation, poses.position
