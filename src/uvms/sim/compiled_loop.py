@@ -1,7 +1,7 @@
 """The whole closed loop compiled: controller updates, thrust allocation, arm trackers and RK4 in one numba
 function (:func:`advance`), with no Python between two calls.
 
-At each event step (a controller update, an arm update, a torque-schedule breakpoint)::
+At each event step (a controller update, an arm update, a torque-schedule breakpoint: :func:`_due`)::
 
     tau      <- arm_torques(arm, t, x)                              (every event, or at the arm's period)
     nu_dot   <- the plant's true acceleration with the held inputs  (only for a controller that measures it)
@@ -9,9 +9,15 @@ At each event step (a controller update, an arm update, a torque-schedule breakp
     command  <- allocate_command(allocation, wrench)                (thrusts -> actuator commands)
     log the update (step, tau, signals); RK4 to the next event
 
-as :func:`uvms.sim.loop.run_python` does with Python objects. A call advances from ``start`` to ``stop`` and
-can be resumed: events at ``stop`` are processed by the next call. The function holds no Python object and
-releases the GIL (``nogil``), so :func:`uvms.rollout` runs several in threads.
+A call advances from ``start`` to ``stop`` and can be resumed: events at ``stop`` are processed by the next
+call. The function holds no Python object and releases the GIL (``nogil``), so :func:`uvms.rollout` runs
+several in threads.
+
+This module is the only event loop: its schedule (:class:`Schedule`, :func:`_due`, :func:`_next_event`), its
+logging rule (:func:`_log_update`) and its signal layout (:func:`_command`) also drive the loop with events in
+Python (:mod:`uvms.sim.loop`: a user's Python controller or arm, or an adaptive integrator), through the thin
+wrappers :func:`event_start` and :func:`event_end`; both loops are cut into calls by
+:func:`uvms.sim.loop.run_in_chunks`.
 """
 
 from __future__ import annotations
@@ -68,23 +74,41 @@ def update_log(n_rows: int, n_joints: int, n_signals: int) -> Log:
                np.zeros(1, dtype=np.int64))
 
 
+EVENT, ARM, CONTROL = 1, 2, 4
+"""Flags of :func:`_due`: the step is an event; the joint torques are evaluated; the controller updates."""
+
+
+def schedule_of(h: float, n_total: int, control_every: int, arm_every: int, breakpoints) -> Schedule:
+    """The :class:`Schedule` of a run: the breakpoints (steps) sorted, once each, those within ``(0, n_total)``."""
+    return Schedule(float(h), int(n_total), int(control_every), int(arm_every),
+                    np.array(sorted(b for b in set(breakpoints) if 0 < b < n_total), dtype=np.int64))
+
+
 @njit(cache=True, inline="always")
-def _is_event(schedule, done):
-    if done == 0:
-        return True
-    if schedule.control_every > 0 and done % schedule.control_every == 0:
-        return True
-    if schedule.arm_every > 0 and done % schedule.arm_every == 0:
-        return True
-    b = schedule.breakpoints
-    for k in range(b.shape[0]):
-        if b[k] == done:
-            return True
-    return False
+def _due(schedule, done):
+    """What happens at step ``done``: 0 (not an event), else :data:`EVENT` plus :data:`ARM` (every event, or
+    the arm's period) and :data:`CONTROL` (the controller's period)."""
+    control = schedule.control_every > 0 and done % schedule.control_every == 0
+    arm = schedule.arm_every > 0 and done % schedule.arm_every == 0
+    event = done == 0 or control or arm
+    if not event:
+        b = schedule.breakpoints
+        for k in range(b.shape[0]):
+            if b[k] == done:
+                event = True
+    if not event:
+        return 0
+    due = EVENT
+    if schedule.arm_every == 0 or arm:
+        due |= ARM
+    if control:
+        due |= CONTROL
+    return due
 
 
 @njit(cache=True, inline="always")
 def _next_event(schedule, done, stop):
+    """The first event after step ``done`` (a multiple of a period, a breakpoint), or ``min(stop, n_total)``."""
     nxt = min(stop, schedule.n_total)
     for every in (schedule.control_every, schedule.arm_every):
         if every > 0:
@@ -99,6 +123,8 @@ def _next_event(schedule, done, stop):
 
 @njit(cache=True, inline="always")
 def _log_update(log, every, done, tau, signals):
+    """Log the update at step ``done`` (its torques and signals); the previous one is dropped if no row was
+    recorded while it held (rows every ``every`` steps: :func:`uvms.sim.record.result_of` never reads it)."""
     c = log.count[0]
     if c > 0 and ((log.steps[c - 1] + every - 1) // every) * every >= done:
         c -= 1                  # no row was recorded while the previous update held: forget it
@@ -112,28 +138,44 @@ def _log_update(log, every, done, tau, signals):
 
 
 @njit(cache=True, inline="always")
-def _update(plant, held, control, schedule, x, done):
+def _command(control, held):
+    """Allocate the commanded wrench to the actuators and lay out the logged signals:
+    ``[controller signals | wrench [K M N X Y Z] | allocation signals]`` (names: :func:`compiled_run`)."""
+    ctrl = control.controller
+    allocate_command(control.allocation, control.wrench, held.command, control.allocation_signals)
+    s = control.signals
+    k = 0
+    for j in range(ctrl.signals.shape[0]):
+        s[k] = ctrl.signals[j]
+        k += 1
+    for j in range(6):
+        s[k] = control.wrench[j]
+        k += 1
+    for j in range(control.allocation_signals.shape[0]):
+        s[k] = control.allocation_signals[j]
+        k += 1
+
+
+@njit(cache=True, inline="always")
+def _control(plant, held, control, schedule, x, done, due, controller_compiled):
+    """The controller's part of the event at step ``done`` (``due`` from :func:`_due`): its update (unless
+    ``controller_compiled`` is false: a Python controller has written ``control.wrench``) and :func:`_command`."""
+    if due & CONTROL:
+        if controller_compiled:
+            t = done * schedule.h
+            ctrl = control.controller
+            if ctrl.needs_acceleration:
+                derivative_kernel(plant, held, t, x, control.xdot)
+            controller_update(ctrl, t, x, held.joint_torques, control.xdot[NU:JOINTS], control.wrench)
+        _command(control, held)
+
+
+@njit(cache=True, inline="always")
+def _update(plant, held, control, schedule, x, done, due):
     """The event at step ``done``: arm torques, controller, allocation (module docstring)."""
-    t = done * schedule.h
-    if schedule.arm_every == 0 or done % schedule.arm_every == 0:
-        arm_torques(control.arm, t, x, held.joint_torques)
-    if schedule.control_every > 0 and done % schedule.control_every == 0:
-        ctrl = control.controller
-        if ctrl.needs_acceleration:
-            derivative_kernel(plant, held, t, x, control.xdot)
-        controller_update(ctrl, t, x, held.joint_torques, control.xdot[NU:JOINTS], control.wrench)
-        allocate_command(control.allocation, control.wrench, held.command, control.allocation_signals)
-        s = control.signals
-        k = 0
-        for j in range(ctrl.signals.shape[0]):
-            s[k] = ctrl.signals[j]
-            k += 1
-        for j in range(6):
-            s[k] = control.wrench[j]
-            k += 1
-        for j in range(control.allocation_signals.shape[0]):
-            s[k] = control.allocation_signals[j]
-            k += 1
+    if due & ARM:
+        arm_torques(control.arm, done * schedule.h, x, held.joint_torques)
+    _control(plant, held, control, schedule, x, done, due, True)
 
 
 @kernel
@@ -148,8 +190,9 @@ def advance(plant, held, control, schedule, record, log, x, start, stop):
     done = start
     h = schedule.h
     while done < stop:
-        if _is_event(schedule, done):
-            _update(plant, held, control, schedule, x, done)
+        due = _due(schedule, done)
+        if due:
+            _update(plant, held, control, schedule, x, done, due)
             _log_update(log, record.every, done, held.joint_torques, control.signals)
         nxt = _next_event(schedule, done, stop)
         k, code = rk4_steps(plant, held, x, 0.0, h, nxt - done, done, record)
@@ -188,18 +231,55 @@ def advance_loop(loop, start, stop):
                    start, stop)
 
 
+@njit(cache=True)
+def event_start(loop, done, arm_compiled):
+    """For the loop with events in Python (:class:`uvms.sim.loop.PythonEvents`): :func:`_due` at step ``done``,
+    and the compiled arm's torques when they are due (``arm_compiled``; else Python evaluates them)."""
+    due = _due(loop.schedule, done)
+    if (due & ARM) != 0 and arm_compiled:
+        arm_torques(loop.control.arm, done * loop.schedule.h, loop.x, loop.held.joint_torques)
+    return due
+
+
+@njit(cache=True)
+def event_end(loop, done, due, controller_compiled, stop):
+    """The rest of the event at step ``done`` for the loop with events in Python: the controller's part
+    (:func:`_control`; a Python controller's wrench already in ``control.wrench``) and the log (:func:`_log_update`).
+    Returns ``(kept updates, next event before or at stop)``."""
+    if due:
+        _control(plant_data(loop.plant), loop.held, loop.control, loop.schedule, loop.x, done, due,
+                 controller_compiled)
+        _log_update(loop.log, loop.record.every, done, loop.held.joint_torques, loop.control.signals)
+    return loop.log.count[0], _next_event(loop.schedule, done, stop)
+
+
+@njit(cache=True)
+def next_event(schedule, done, stop):
+    """:func:`_next_event` from Python (:func:`uvms.sim.plan.events`)."""
+    return _next_event(schedule, done, stop)
+
+
 # ----------------------------------------------------------------------------------------- the Python side
+
+
+def compiled_arm(plan) -> bool:
+    """Whether ``plan``'s joint torques are compiled: none, constant, a schedule or a bundled tracker (anything
+    else is the user's Python callable)."""
+    from uvms.sim.inputs import TorqueSchedule
+
+    source = plan.arm.source
+    return source is None or isinstance(source, (np.ndarray, TorqueSchedule)) or hasattr(source, "compiled")
+
+
+def compiled_controller(plan) -> bool:
+    """Whether ``plan``'s controller is none or a bundled one whose update is the compiled kernel's."""
+    return plan.controller is None or bool(getattr(plan.controller, "compiled_update", False))
 
 
 def compilable(plan) -> bool:
     """Whether ``plan`` runs entirely in :func:`advance`: RK4, and a bundled controller (or none) and a
     constant, scheduled or bundled-tracker arm input (anything else is the user's Python: :mod:`uvms.sim.loop`)."""
-    from uvms.sim.inputs import TorqueSchedule
-
-    source = plan.arm.source
-    arm_ok = source is None or isinstance(source, (np.ndarray, TorqueSchedule)) or hasattr(source, "compiled")
-    return plan.integrator.name == "rk4" and arm_ok and (plan.controller is None or
-                                                         getattr(plan.controller, "compiled_update", False))
+    return plan.integrator.name == "rk4" and compiled_arm(plan) and compiled_controller(plan)
 
 
 class CompiledRun(NamedTuple):
@@ -214,8 +294,11 @@ class CompiledRun(NamedTuple):
 
 
 def compiled_run(plan, n_updates: int | None = None) -> CompiledRun:
-    """Build the compiled controller, arm and allocation of ``plan`` (:func:`compilable` must hold);
-    ``n_updates`` bounds the controller's updates (default: the run's; it sizes a noisy IMU's noise table)."""
+    """Build the compiled controller, arm and allocation of ``plan``; ``n_updates`` bounds the controller's
+    updates (default: the run's; it sizes a noisy IMU's noise table). A user's Python arm (not
+    :func:`compiled_arm`) gets a placeholder its Python events fill in, and a Python controller (not
+    :func:`compiled_controller`) the placeholder :func:`~uvms.control.kernels.no_controller`: its signals are
+    then only the command and the allocation (its own are logged in Python, :class:`uvms.sim.loop.PythonLog`)."""
     from uvms.control.arm import constant_arm, schedule_arm
     from uvms.control.kernels import no_controller
     from uvms.sim.inputs import TorqueSchedule
@@ -224,7 +307,7 @@ def compiled_run(plan, n_updates: int | None = None) -> CompiledRun:
 
     timing, n = plan.timing, plan.layout.n_joints
     source = plan.arm.source
-    if source is None:
+    if source is None or not compiled_arm(plan):
         arm = constant_arm(np.zeros(n))
     elif isinstance(source, TorqueSchedule):
         arm = schedule_arm(source, timing.h)
@@ -233,27 +316,26 @@ def compiled_run(plan, n_updates: int | None = None) -> CompiledRun:
     else:
         arm = source.compiled()
     names: tuple = ()
-    if plan.controller is None:
-        controller = no_controller()
-    else:
+    controller = no_controller()
+    if plan.controller is not None:
         if hasattr(plan.controller, "reset"):
             plan.controller.reset()
-        controller = plan.controller.compiled(n_updates or timing.n_total // plan.control_every + 2)
-        names = tuple(plan.controller.signal_names) + COMMAND_NAMES + tuple(thrust_command_names(plan.thrusters))
+        names = COMMAND_NAMES + tuple(thrust_command_names(plan.thrusters))
+        if compiled_controller(plan):
+            controller = plan.controller.compiled(n_updates or timing.n_total // plan.control_every + 2)
+            names = tuple(plan.controller.signal_names) + names
     m = len(plan.thrusters)
     control = Control(controller=controller, arm=arm, allocation=thrust_command(plan.thrusters),
                       wrench=np.zeros(6), xdot=np.zeros(plan.x.size),
                       allocation_signals=np.zeros(m + 6 if m else 0), signals=np.zeros(len(names)))
-    schedule = Schedule(timing.h, timing.n_total, plan.control_every, plan.arm.every,
-                        np.array(sorted(b for b in set(plan.arm.breakpoints) if 0 < b < timing.n_total),
-                                 dtype=np.int64))
+    schedule = plan.schedule()
     log = update_log(plan.samples.times.shape[0] + 2, n, len(names))
     loop = _new_loop(plan.plant, plan.held, control, schedule, plan.samples, log, plan.x)
     return CompiledRun(control, schedule, log, loop, names)
 
 
 class CompiledLog:
-    """A :class:`Log` read as :class:`uvms.sim.loop.UpdateLog` is (for :func:`uvms.sim.record.result_of`)."""
+    """A :class:`Log` read as :func:`uvms.sim.record.result_of` reads a log: ``steps``, ``torques``, ``held``."""
 
     def __init__(self, log: Log, names: tuple) -> None:
         c = int(log.count[0])
@@ -268,21 +350,10 @@ class CompiledLog:
 
 
 def run_compiled(plan, chunking):
-    """Advance ``plan`` to its end (or divergence) in calls of :func:`advance` sized like the Python loop's
-    RK4 calls (Ctrl-C and progress in between)."""
-    import time as _time
-
-    from uvms.sim.loop import Outcome
+    """Advance ``plan`` to its end (or divergence) in calls of :func:`advance` cut by
+    :func:`uvms.sim.loop.run_in_chunks` (Ctrl-C and progress in between)."""
+    from uvms.sim.loop import run_in_chunks
 
     run = compiled_run(plan)
-    done, code, chunk = 0, 0, chunking.first
-    n_total = plan.timing.n_total
-    while done < n_total and code == 0:
-        tic = _time.perf_counter()
-        stop = min(n_total, done + chunk)
-        new_done, code = advance_loop(run.loop, done, stop)
-        chunk = chunking.next(stop - done, _time.perf_counter() - tic, chunk)
-        done = new_done
-        if code == 0:
-            plan.report_progress(done)
-    return Outcome(done, code), CompiledLog(run.log, run.signal_names)
+    outcome = run_in_chunks(plan, chunking, lambda start, stop: advance_loop(run.loop, start, stop))
+    return outcome, CompiledLog(run.log, run.signal_names)

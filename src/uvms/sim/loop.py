@@ -1,20 +1,24 @@
-"""The loops that advance a :class:`~uvms.sim.plan.RunPlan`: between two events (a controller update, an arm
-update, a change in the torque schedule, the end) every input is held (zero-order hold) and the integrator
-advances the state.
+"""The loop that advances a :class:`~uvms.sim.plan.RunPlan` with its events in Python: between two events (a
+controller update, an arm update, a change in the torque schedule, the end) every input is held (zero-order
+hold) and the integrator advances the state.
 
-- :func:`run_python`: the events in Python. Used when the controller or the arm is the user's own Python
-  object (today's protocol: ``controller.update(Measurement) -> ControlOutput``), or with an adaptive
-  integrator. The compiled RK4 loop (:func:`uvms.sim.integrate.rk4`) advances the state between events, in
-  calls of about :data:`CHUNK_SECONDS` so that Ctrl-C and ``progress`` respond.
+There is one event loop (:mod:`uvms.sim.compiled_loop`): its schedule, its rule for the updates kept in the
+log and its signal layout are compiled. :class:`PythonEvents` drives the same compiled event (through
+:func:`~uvms.sim.compiled_loop.event_start` and :func:`~uvms.sim.compiled_loop.event_end`) and does in Python
+only what must be Python: the user's own controller (today's protocol: ``controller.update(Measurement) ->
+ControlOutput``) or arm callable, and an adaptive integrator (scipy's ``solve_ivp``) between events; a bundled
+controller or arm input in such a run is compiled as in :func:`~uvms.sim.compiled_loop.advance`. Both loops
+are cut into calls of about :data:`uvms.sim.run.CHUNK_SECONDS` by :func:`run_in_chunks`, so that Ctrl-C and
+``progress`` respond.
 
-Both record the updates (:class:`UpdateLog`): the step, the held joint torques and the logged signals of
-each, for the result's zero-order-hold reconstruction (:mod:`uvms.sim.record`).
+Both record the updates: the step, the held joint torques and the logged signals of each, for the result's
+zero-order-hold reconstruction (:mod:`uvms.sim.record`).
 """
 
 from __future__ import annotations
 
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -37,66 +41,59 @@ class Outcome:
     reason: str = ""
 
 
-@dataclass
-class UpdateLog:
-    """The updates of a run that hold recorded rows: ``steps`` (global step of each), ``torques`` and
-    ``signals`` (one dict per update, name -> value)."""
+class PythonLog:
+    """The compiled :class:`~uvms.sim.compiled_loop.Log` of a run with events in Python, read as
+    :class:`~uvms.sim.compiled_loop.CompiledLog` is, plus a Python controller's own signals: ``per_update``,
+    one dict (name -> value) per kept update."""
 
-    steps: list = field(default_factory=list)
-    torques: list = field(default_factory=list)
-    signals: list = field(default_factory=list)
+    def __init__(self, log, names: tuple, per_update: list) -> None:
+        from uvms.sim.compiled_loop import CompiledLog
 
-    def add(self, done: int, every: int, tau: np.ndarray, signals: dict) -> None:
-        """Log an update at step ``done``; the previous one is dropped if no row was recorded while it held
-        (rows are recorded every ``every`` steps)."""
-        if self.steps and -(-self.steps[-1] // every) * every >= done:
-            self.steps.pop()
-            self.torques.pop()
-            self.signals.pop()
-        self.steps.append(done)
-        self.torques.append(np.array(tau, dtype=float))
-        self.signals.append(signals)
+        self.compiled = CompiledLog(log, names)
+        self.steps, self.torques = self.compiled.steps, self.compiled.torques
+        self.per_update = per_update
 
     def held(self, which: np.ndarray) -> dict[str, np.ndarray]:
-        """Each signal's value at every recorded row (the update ``which[r]`` holding row ``r``)."""
+        """Each signal's value at every recorded row (the update ``which[r]`` holding row ``r``), sorted by name;
+        the command and allocation signals are the compiled ones (a controller's entry of the same name yields)."""
         from uvms.sim.record import held_signals
 
-        return held_signals(self.signals, which)
+        held = held_signals(self.per_update, which) if self.per_update else {}
+        held.update(self.compiled.held(which))
+        return {k: held[k] for k in sorted(held)}
 
 
-class Rk4Segments:
-    """Advances a plan's state with the compiled RK4 loop, in calls of ``chunking.first`` steps at first and
-    then of ``chunking.next(steps, seconds, current)`` (sized from the last call's cost: see
-    :data:`uvms.sim.run.CHUNK_SECONDS`)."""
-
-    def __init__(self, plan, chunking) -> None:
-        self.plan = plan
-        self.next_chunk = chunking.next
-        self.chunk = chunking.first
-
-    def __call__(self, done: int, steps: int) -> Outcome:
-        plan = self.plan
-        h = plan.timing.h
-        k_done = code = 0
-        while k_done < steps and code == 0:       # bounded calls: Ctrl-C and progress between them
-            chunk = min(steps - k_done, self.chunk)
-            tic = _time.perf_counter()
-            k, code = rk4(plan.plant, plan.held, plan.x, 0.0, h, chunk, done + k_done, plan.samples)
-            self.chunk = self.next_chunk(chunk, _time.perf_counter() - tic, self.chunk)
-            k_done += k
-            if code == 0 and k_done < steps:
-                plan.report_progress(done + k_done)
-        return Outcome(done + k_done, code)
+def run_in_chunks(plan, chunking, advance) -> Outcome:
+    """Advance ``plan`` to its end (or divergence) by calls ``advance(start, stop) -> (done, code)`` that
+    process the events in ``[start, stop)`` and integrate to ``stop`` (a later call resumes there): calls of
+    ``chunking.first`` steps at first, then of ``chunking.next(steps, seconds, current)`` (sized from the last
+    call's cost: :data:`uvms.sim.run.CHUNK_SECONDS`), with ``progress`` after each. The cut does not change the
+    arithmetic: every call continues the same step grid (``t = k h``). ``advance.reason`` (if any) says why an
+    adaptive solver gave up."""
+    done, code, chunk = 0, 0, chunking.first
+    n_total = plan.timing.n_total
+    while done < n_total and code == 0:
+        tic = _time.perf_counter()
+        stop = min(n_total, done + chunk)
+        new_done, code = advance(done, stop)
+        chunk = chunking.next(stop - done, _time.perf_counter() - tic, chunk)
+        done = new_done
+        if code == 0:
+            plan.report_progress(done)
+    return Outcome(done, code, getattr(advance, "reason", "") if code else "")
 
 
 class AdaptiveSegments:
-    """Advances a plan's state with ``scipy.integrate.solve_ivp`` (:class:`~uvms.sim.options.Adaptive`),
-    recording on the same grid as RK4."""
+    """Advances a plan's state with ``scipy.integrate.solve_ivp`` (:class:`~uvms.sim.options.Adaptive`) from
+    one event to the next, recording on the same grid as RK4."""
 
     def __init__(self, plan) -> None:
         self.plan = plan
+        self.reason = ""
 
-    def __call__(self, done: int, steps: int) -> Outcome:
+    def __call__(self, done: int, steps: int) -> tuple[int, int]:
+        """``steps`` steps from step ``done``: ``(done, code)`` as :func:`~uvms.sim.integrate.rk4` returns them
+        (code -1 with :attr:`reason` when the solver gave up)."""
         from scipy.integrate import solve_ivp
 
         plan = self.plan
@@ -122,33 +119,27 @@ class AdaptiveSegments:
             k = int(round(sol.t[j] / h))
             x[:] = y
             if code != 0:
-                return Outcome(k, code)
+                return k, code
             n_out = rec.count[0]
             if j < len(grid) and n_out < rec.times.shape[0]:
                 rec.times[n_out] = grid[j] * h
                 rec.states[n_out] = y
                 rec.count[0] = n_out + 1
         if not sol.success:
-            k = int(round(sol.t[-1] / h)) if sol.t.size else done
-            return Outcome(k, -1, f"the {method} solver stopped ({sol.message})")
-        return Outcome(done + steps)
+            self.reason = f"the {method} solver stopped ({sol.message})"
+            return (int(round(sol.t[-1] / h)) if sol.t.size else done), -1
+        return done + steps, 0
 
 
 class PythonController:
-    """A controller's update in Python (the :class:`~uvms.control.base.Controller` protocol), its wrench
-    allocated to the actuators and logged with the command and allocation signals."""
+    """A controller's update in Python (the :class:`~uvms.control.base.Controller` protocol): its checked wrench
+    written into the compiled loop's ``wrench`` (allocated and logged there), its own signals returned."""
 
-    def __init__(self, plan) -> None:
-        from uvms.thrusters.command import thrust_command, thrust_command_names
-
+    def __init__(self, plan, wrench: np.ndarray) -> None:
         self.plan = plan
         self.controller = plan.controller
-        self.allocation = thrust_command(plan.thrusters)
-        self.allocation_names = thrust_command_names(plan.thrusters)
-        self.allocation_signals = np.zeros(len(self.allocation_names))
+        self.wrench = wrench
         self.xdot = np.zeros(plan.x.size)
-        if hasattr(self.controller, "reset"):
-            self.controller.reset()
 
     def true_nu_dot(self, t: float):
         """The vehicle's true body acceleration now, with the held inputs (evaluated only if asked for)."""
@@ -164,36 +155,69 @@ class PythonController:
         plan = self.plan
         out: ControlOutput = self.controller.update(Measurement(
             time=t, state=state, joint_torques=plan.held.joint_torques.copy(), nu_dot_source=self.true_nu_dot(t)))
-        wrench = checks.returned_vector(getattr(out, "wrench", None), 6, "controller.update().wrench",
-                                        " [moment; force]", t)
-        from uvms.thrusters.command import allocate_command
-
-        allocate_command(self.allocation, wrench, plan.held.command, self.allocation_signals)
-        signals = dict(out.signals)
-        signals.update(zip(COMMAND_NAMES, wrench.tolist()))
-        signals.update(zip(self.allocation_names, self.allocation_signals.tolist()))
-        return signals
+        self.wrench[:] = checks.returned_vector(getattr(out, "wrench", None), 6, "controller.update().wrench",
+                                                " [moment; force]", t)
+        return dict(out.signals)
 
 
-def run_python(plan, chunking) -> tuple[Outcome, UpdateLog]:
+class PythonEvents:
+    """``advance(start, stop)`` of :func:`run_in_chunks` with the events in Python (module docstring): at each
+    event the compiled :func:`~uvms.sim.compiled_loop.event_start` (the schedule; a compiled arm), the user's
+    Python arm and controller, the compiled :func:`~uvms.sim.compiled_loop.event_end` (a compiled controller,
+    the allocation, the signal layout, the log and the next event); then RK4 (compiled, cut at ``stop``) or the
+    adaptive solver (from event to event, never cut: a cut would restart its step-size control)."""
+
+    def __init__(self, plan) -> None:
+        from uvms.sim.compiled_loop import compiled_arm, compiled_controller, compiled_run
+
+        self.plan = plan
+        self.run = compiled_run(plan)
+        self.arm_compiled, self.controller_compiled = compiled_arm(plan), compiled_controller(plan)
+        self.controller = None if self.controller_compiled else PythonController(plan, self.run.control.wrench)
+        self.per_update: list = []
+        self.signals: dict = {}
+        self.adaptive = None if plan.integrator.name == "rk4" else AdaptiveSegments(plan)
+
+    @property
+    def reason(self) -> str:
+        return self.adaptive.reason if self.adaptive is not None else ""
+
+    def __call__(self, start: int, stop: int) -> tuple[int, int]:
+        from uvms.sim.compiled_loop import ARM, CONTROL, event_end, event_start
+
+        plan, loop = self.plan, self.run.loop
+        h, n = plan.timing.h, plan.layout.n_joints
+        horizon = stop if self.adaptive is None else plan.timing.n_total
+        done = start
+        while done < stop:
+            due = event_start(loop, done, self.arm_compiled)
+            python_arm = due & ARM and not self.arm_compiled
+            python_control = due & CONTROL and self.controller is not None
+            if python_arm or python_control:
+                t = done * h
+                state = unpack(plan.x, n)
+                if python_arm:
+                    plan.held.joint_torques[:] = plan.arm(t, state)
+                if python_control:
+                    self.signals = self.controller(t, state)
+            kept, nxt = event_end(loop, done, due, self.controller_compiled, horizon)
+            if due and self.controller is not None:
+                self.per_update[kept - 1:] = [self.signals]     # the compiled log's drop rule, kept in step
+            if self.adaptive is None:
+                k, code = rk4(plan.plant, plan.held, plan.x, 0.0, h, nxt - done, done, plan.samples)
+                done += k
+            else:
+                done, code = self.adaptive(done, nxt - done)
+            if code != 0:
+                return done, code
+        return done, 0
+
+    def log(self) -> PythonLog:
+        """What the run logged (:func:`uvms.sim.record.result_of`)."""
+        return PythonLog(self.run.log, self.run.signal_names, self.per_update)
+
+
+def run_python(plan, chunking) -> tuple[Outcome, PythonLog]:
     """Advance ``plan`` to its end (or divergence) with the events in Python (module docstring)."""
-    h, n = plan.timing.h, plan.layout.n_joints
-    segments = Rk4Segments(plan, chunking) if plan.integrator.name == "rk4" else AdaptiveSegments(plan)
-    controller = PythonController(plan) if plan.controller is not None else None
-    log = UpdateLog()
-    signals: dict = {}
-    outcome = Outcome()
-    for event in plan.events():
-        done = outcome.done
-        t = done * h
-        state = unpack(plan.x, n)
-        if plan.arm.due(done):
-            plan.held.joint_torques[:] = plan.arm(t, state)
-        if controller is not None and done % plan.control_every == 0:
-            signals = controller(t, state)
-        log.add(done, plan.samples.every, plan.held.joint_torques, signals)
-        outcome = segments(done, event - done)
-        if outcome.code != 0:
-            break
-        plan.report_progress(outcome.done)
-    return outcome, log
+    events = PythonEvents(plan)
+    return run_in_chunks(plan, chunking, events), events.log()

@@ -223,6 +223,14 @@ class RunPlan:
                    fixed_base=inputs.fixed_base,
                    integrator=integrator, recording=recording)
 
+    def schedule(self):
+        """The event grid of this run (:class:`uvms.sim.compiled_loop.Schedule`): controller period, arm period
+        and torque-schedule breakpoints, in steps."""
+        from uvms.sim.compiled_loop import schedule_of
+
+        return schedule_of(self.timing.h, self.timing.n_total, self.control_every, self.arm.every,
+                           self.arm.breakpoints)
+
     def events(self):
         """The steps at which the loop stops (:func:`events`) for this run's periods and breakpoints."""
         return events(self.timing.n_total, (self.control_every, self.arm.every), self.arm.breakpoints)
@@ -239,18 +247,15 @@ def record_every(timing: Timing, recording: Recording) -> int:
     return max(1, int(np.ceil(timing.n_total / MAX_SAMPLES)))
 
 
-def events(n_total: int, periods: tuple[int, ...], breakpoints: list[int]):
-    """The steps at which a loop stops, in order: multiples of each non-zero period (in steps), the
-    breakpoints, and ``n_total``; generated one at a time (a long run holds no list of them)."""
-    upcoming = {every: every for every in periods if every}
-    pending = sorted(b for b in set(breakpoints) if 0 < b < n_total)
-    i = 0
+def events(n_total: int, periods: tuple[int, int], breakpoints: list[int]):
+    """The steps at which a loop stops, in order: multiples of each non-zero period ``(controller, arm)`` (in
+    steps), the breakpoints, and ``n_total``; generated one at a time (a long run holds no list of them) by
+    the loops' own rule (:func:`uvms.sim.compiled_loop._next_event`)."""
+    from uvms.sim.compiled_loop import next_event, schedule_of
+
+    control_every, arm_every = periods
+    schedule = schedule_of(1.0, n_total, control_every, arm_every, breakpoints)
     event = 0
     while event < n_total:
-        event = min(n_total, *upcoming.values(), pending[i] if i < len(pending) else n_total)
+        event = int(next_event(schedule, event, n_total))
         yield event
-        for every in upcoming:
-            if upcoming[every] <= event:
-                upcoming[every] = (event // every + 1) * every
-        while i < len(pending) and pending[i] <= event:
-            i += 1
