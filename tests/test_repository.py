@@ -111,23 +111,16 @@ only ``_cache``, and its public names (the face of the Python API) load on first
 module outside every package listed here needs a floor (the test says so)."""
 
 KNOWN_UPWARD = {
-    ("uvms.model.trim", "uvms.dynamics.api"): "trim and its controller fit move to uvms.analysis (engineer H)",
-    ("uvms.model.trim", "uvms.control.smc"): "trim and its controller fit move to uvms.analysis (engineer H)",
-    ("uvms.model.model", "uvms.dynamics.kernel_model"): "a Model builds its compiled arrays on construction "
-                                                        "(the model's kernel arrays: engineer G)",
-    ("uvms.sim.result", "uvms.plots"): "a result's plot() convenience (being removed by another engineer)",
-    ("uvms.sim.result", "uvms.view"): "a result's animate() convenience (being removed by another engineer)",
-    ("uvms.control.smc", "uvms.analysis.trim"): "the sliding-mode b bounds read the plant's effective inertia "
-                                                "(trim's controller fit, moved to uvms.analysis by engineer H)",
+    ("uvms.sim.result", "uvms.plots"): "Result.plot(), a documented convenience of a saved run (docs/python.md); "
+                                       "the figure code lives in uvms.plots, a lazy import",
+    ("uvms.sim.result", "uvms.view"): "Result.animate(), a documented convenience of a saved run "
+                                      "(docs/viewing.md); the replay code lives in uvms.view, a lazy import",
 }
 """Imports that still go up a floor, each with its reason (out of the issue's first part)."""
 
 KNOWN_CYCLES = {
-    ("uvms.control.smc", "uvms.model.trim"): "the sliding-mode b bounds read the trim module's axes, the trim "
-                                             "report fits the controller (engineer H moves trim to uvms.analysis)",
     ("uvms.sim.result", "uvms.plots"): KNOWN_UPWARD[("uvms.sim.result", "uvms.plots")],
     ("uvms.sim.result", "uvms.view"): KNOWN_UPWARD[("uvms.sim.result", "uvms.view")],
-    ("uvms.control.smc", "uvms.analysis.trim"): KNOWN_UPWARD[("uvms.control.smc", "uvms.analysis.trim")],
 }
 """Import edges that close a cycle, each with its reason: without them the module graph has no cycle. (A
 module's import of its own package, ``uvms.view.animate`` of ``uvms.view``, is no edge: Python imports a

@@ -46,14 +46,9 @@ from typing import Any
 
 import numpy as np
 
+from uvms.dynamics.axes import AXES, INERTIA_UNITS, WRENCH_ROW, effective_inertia  # noqa: F401
 from uvms.errors import UvmsInputError, show
 
-AXES: tuple[str, ...] = ("surge", "sway", "heave", "roll", "pitch", "yaw")
-"""Body axes, in this order everywhere: forces X, Y, Z [N], then moments K, M, N [N m]."""
-WRENCH_ROW: tuple[int, ...] = (3, 4, 5, 0, 1, 2)
-"""Row of each axis of :data:`AXES` in a ``[K, M, N, X, Y, Z]`` wrench (and in ``nu``)."""
-INERTIA_UNITS: tuple[str, ...] = ("kg", "kg", "kg", "kg m^2", "kg m^2", "kg m^2")
-"""Units of the effective mass or inertia of each axis of :data:`AXES`."""
 CONTROLLED_AXES: tuple[str, ...] = ("surge", "sway", "yaw")
 """Axes of the sliding-mode controller (``uvms.control.smc.AXES``), in the order of its ``b_limits()``."""
 BALLAST_KINDS: tuple[str, ...] = ("mass", "foam")
@@ -157,19 +152,6 @@ def rest_attitude(model, s: Statics) -> tuple[float | None, float | None, str]:
 
 
 # -------------------------------------------------------------------------------------- controller fit
-
-
-def effective_inertia(model, q: np.ndarray) -> np.ndarray:
-    """(6,) ``1 / (M^-1)_jj`` of the joint-space mass matrix at ``q`` per axis of :data:`AXES`."""
-    from uvms.dynamics.api import mass_matrix
-    from uvms.state import State
-
-    M = mass_matrix(model, State.from_euler(model, q=q))
-    try:
-        inverse = np.linalg.inv(M)
-    except np.linalg.LinAlgError:
-        raise UvmsInputError("the mass matrix is singular at this pose") from None
-    return np.array([1.0 / inverse[row, row] for row in WRENCH_ROW])
 
 
 def b_bounds_check(inertia: np.ndarray, controller=None) -> tuple[dict[str, tuple[float, float]], tuple[str, ...]]:

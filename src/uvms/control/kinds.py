@@ -20,6 +20,9 @@ Joint-torque sources (:attr:`uvms.control.arm.ArmData.kind`, dispatched by :func
     SCHEDULE         piecewise-constant torques (:func:`uvms.control.arm.schedule_arm`)
     COMPUTED_TORQUE  the computed-torque tracker (:class:`uvms.control.arm.ComputedTorqueArm`)
     PD               the PD tracker (:class:`uvms.control.arm.PdArm`)
+
+The compiled kernels (:mod:`uvms.jit`) freeze these numbers into their machine code, so this file keys the
+kernel cache (:mod:`uvms._cache`).
 """
 
 from __future__ import annotations

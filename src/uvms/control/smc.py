@@ -255,10 +255,10 @@ def fixed_bound_axes(parameters: SlidingModeParameters) -> tuple[str, ...]:
 
 def b_bounds_misses(parameters: SlidingModeParameters, inertia) -> str:
     """``"surge effective mass 21.19 kg outside [36, 44.44] kg, ..."`` for every axis of :func:`fixed_bound_axes` whose
-    effective mass or inertia (``inertia``: (6,) in :data:`uvms.analysis.trim.AXES` order, kg and kg m^2) lies
+    effective mass or inertia (``inertia``: (6,) in :data:`uvms.dynamics.axes.AXES` order, kg and kg m^2) lies
     outside its bounds; ``""`` when none does."""
-    from uvms.analysis.trim import AXES as INERTIA_AXES
-    from uvms.analysis.trim import INERTIA_UNITS
+    from uvms.dynamics.axes import AXES as INERTIA_AXES
+    from uvms.dynamics.axes import INERTIA_UNITS
 
     misses = []
     for axis in fixed_bound_axes(parameters):
@@ -272,7 +272,7 @@ def b_bounds_misses(parameters: SlidingModeParameters, inertia) -> str:
 
 def warn_b_bounds(model, parameters: SlidingModeParameters) -> str | None:
     """Warn (one :class:`UserWarning` line) when the controller relies on fixed ``b`` bounds that miss the
-    plant's effective mass or inertia (:func:`uvms.analysis.trim.effective_inertia`, arm at ``q = 0``); the
+    plant's effective mass or inertia (:func:`uvms.dynamics.axes.effective_inertia`, arm at ``q = 0``); the
     text names no controller, so the three sliding-mode controllers of one comparison warn once (Python's
     default filter shows a warning once per text and place). Returns the
     line, or ``None`` (every bound contains the plant, or no axis uses fixed bounds: ``pid`` and ``lqr`` never
@@ -281,7 +281,7 @@ def warn_b_bounds(model, parameters: SlidingModeParameters) -> str | None:
         return None
     import warnings
 
-    from uvms.analysis.trim import effective_inertia
+    from uvms.dynamics.axes import effective_inertia
 
     misses = b_bounds_misses(parameters, effective_inertia(model, np.zeros(model.n_joints)))
     if not misses:

@@ -117,7 +117,7 @@ def run_plans(plans: Sequence[RunPlan], *, threads: int, progress: Callable[[int
     ``threads`` threads; the compiled loops release the GIL, so the threads run in parallel. Each result is
     what :func:`uvms.simulate` gives for the same plan."""
     from uvms.sim.compiled_loop import CompiledLog, advance_loop, compiled_run
-    from uvms.sim.loop import Outcome
+    from uvms.sim.chunks import Outcome
     from uvms.sim.record import result_of
 
     runs = [compiled_run(plan) for plan in plans]

@@ -17,7 +17,7 @@ This module is the only event loop: its schedule (:class:`Schedule`, :func:`_due
 logging rule (:func:`_log_update`) and its signal layout (:func:`_command`) also drive the loop with events in
 Python (:mod:`uvms.sim.loop`: a user's Python controller or arm, or an adaptive integrator), through the thin
 wrappers :func:`event_start` and :func:`event_end`; both loops are cut into calls by
-:func:`uvms.sim.loop.run_in_chunks`.
+:func:`uvms.sim.chunks.run_in_chunks`.
 """
 
 from __future__ import annotations
@@ -302,7 +302,7 @@ def compiled_run(plan, n_updates: int | None = None) -> CompiledRun:
     from uvms.control.arm import constant_arm, schedule_arm
     from uvms.control.kernels import no_controller
     from uvms.sim.inputs import TorqueSchedule
-    from uvms.sim.loop import COMMAND_NAMES
+    from uvms.sim.chunks import COMMAND_NAMES
     from uvms.thrusters.command import thrust_command, thrust_command_names
 
     timing, n = plan.timing, plan.layout.n_joints
@@ -351,8 +351,8 @@ class CompiledLog:
 
 def run_compiled(plan, chunking):
     """Advance ``plan`` to its end (or divergence) in calls of :func:`advance` cut by
-    :func:`uvms.sim.loop.run_in_chunks` (Ctrl-C and progress in between)."""
-    from uvms.sim.loop import run_in_chunks
+    :func:`uvms.sim.chunks.run_in_chunks` (Ctrl-C and progress in between)."""
+    from uvms.sim.chunks import run_in_chunks
 
     run = compiled_run(plan)
     outcome = run_in_chunks(plan, chunking, lambda start, stop: advance_loop(run.loop, start, stop))

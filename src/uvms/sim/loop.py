@@ -8,7 +8,7 @@ log and its signal layout are compiled. :class:`PythonEvents` drives the same co
 only what must be Python: the user's own controller (today's protocol: ``controller.update(Measurement) ->
 ControlOutput``) or arm callable, and an adaptive integrator (scipy's ``solve_ivp``) between events; a bundled
 controller or arm input in such a run is compiled as in :func:`~uvms.sim.compiled_loop.advance`. Both loops
-are cut into calls of about :data:`uvms.sim.run.CHUNK_SECONDS` by :func:`run_in_chunks`, so that Ctrl-C and
+are cut into calls of about :data:`uvms.sim.run.CHUNK_SECONDS` by :func:`uvms.sim.chunks.run_in_chunks`, so that Ctrl-C and
 ``progress`` respond.
 
 Both record the updates: the step, the held joint torques and the logged signals of each, for the result's
@@ -17,28 +17,13 @@ zero-order-hold reconstruction (:mod:`uvms.sim.record`).
 
 from __future__ import annotations
 
-import time as _time
-from dataclasses import dataclass
-
 import numpy as np
 
 from uvms import checks
 from uvms.control.base import ControlOutput, Measurement
+from uvms.sim.chunks import COMMAND_NAMES, Outcome, run_in_chunks
 from uvms.sim.integrate import check_state, derivative, rk4, unpack
 from uvms.state import JOINTS, NU, QUATERNION
-
-COMMAND_NAMES = tuple(f"command_{a}" for a in ("K", "M", "N", "X", "Y", "Z"))
-"""Logged commanded body wrench ``[K, M, N, X, Y, Z]`` (moments about and forces along the body axes)."""
-
-
-@dataclass
-class Outcome:
-    """How a loop ended: steps done, the divergence code (0: none; else :func:`~uvms.sim.integrate.check_state`'s)
-    and a reason when an adaptive solver gave up."""
-
-    done: int = 0
-    code: int = 0
-    reason: str = ""
 
 
 class PythonLog:
@@ -61,26 +46,6 @@ class PythonLog:
         held = held_signals(self.per_update, which) if self.per_update else {}
         held.update(self.compiled.held(which))
         return {k: held[k] for k in sorted(held)}
-
-
-def run_in_chunks(plan, chunking, advance) -> Outcome:
-    """Advance ``plan`` to its end (or divergence) by calls ``advance(start, stop) -> (done, code)`` that
-    process the events in ``[start, stop)`` and integrate to ``stop`` (a later call resumes there): calls of
-    ``chunking.first`` steps at first, then of ``chunking.next(steps, seconds, current)`` (sized from the last
-    call's cost: :data:`uvms.sim.run.CHUNK_SECONDS`), with ``progress`` after each. The cut does not change the
-    arithmetic: every call continues the same step grid (``t = k h``). ``advance.reason`` (if any) says why an
-    adaptive solver gave up."""
-    done, code, chunk = 0, 0, chunking.first
-    n_total = plan.timing.n_total
-    while done < n_total and code == 0:
-        tic = _time.perf_counter()
-        stop = min(n_total, done + chunk)
-        new_done, code = advance(done, stop)
-        chunk = chunking.next(stop - done, _time.perf_counter() - tic, chunk)
-        done = new_done
-        if code == 0:
-            plan.report_progress(done)
-    return Outcome(done, code, getattr(advance, "reason", "") if code else "")
 
 
 class AdaptiveSegments:
