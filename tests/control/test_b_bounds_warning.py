@@ -1,6 +1,7 @@
 """The sliding-mode ``b`` bounds warning: only a controller that relies on fixed bounds (``smc-ab``, ``smc-ne``,
-``smc-vehicle`` with ``b_source: fixed``) warns, in one line naming every axis they miss, and the three of a
-comparison warn once; ``pid``, ``lqr``, ``b_source: model`` and bounds that contain the plant do not warn."""
+``smc-vehicle`` with ``b_source: fixed``) warns, when a command is about to use it, in one line naming every
+axis they miss, and the three of a comparison warn once; ``pid``, ``lqr``, ``b_source: model`` and bounds that
+contain the plant do not warn; a sweep's workers never do."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import pytest
 
 import uvms
 from uvms.control.registry import make_controller
+from uvms.control.smc import warn_controller_b_bounds
 
 
 @pytest.fixture(scope="module")
@@ -22,9 +24,7 @@ def _built(model, *specs) -> list[str]:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         for name, parameters in specs:
-            controller = make_controller(name, model, period=0.01, parameters=parameters)
-            if hasattr(controller, "compiled"):
-                controller.compiled(4)            # what a run builds when it starts: the controller in use
+            warn_controller_b_bounds(make_controller(name, model, period=0.01, parameters=parameters))
     return [str(w.message) for w in caught if "b bounds" in str(w.message)]
 
 
@@ -51,11 +51,12 @@ def test_controllers_that_do_not_rely_on_bounds_that_miss_do_not_warn(bluerov, n
     assert _built(bluerov, (name, parameters)) == []
 
 
-def test_building_a_controller_does_not_warn_before_its_run(bluerov):
-    """A command that refuses its input after building the controllers says only the error."""
+def test_building_or_running_a_controller_does_not_warn(bluerov):
+    """Building it (a command that then refuses its input says only the error) or compiling it for a run (a
+    sweep's worker) is silent: the warning is the command's, before it runs."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
-        make_controller("smc-ab", bluerov, period=0.01)
+        make_controller("smc-ab", bluerov, period=0.01).compiled(4)
     assert caught == []
 
 
@@ -72,10 +73,42 @@ def test_the_cli_shows_a_warning_as_one_line_once(monkeypatch, capsys):
 
     def run(args):
         for _ in range(3):
-            make_controller("smc-ab", uvms.load_model("bluerov2_heavy_alpha5"), period=0.01).compiled(4)
+            warn_controller_b_bounds(make_controller("smc-ab", uvms.load_model("bluerov2_heavy_alpha5"), period=0.01))
         return 0
 
     monkeypatch.setattr(importlib.import_module("uvms.commands.validate"), "run", run)
     assert main(["validate", "paper"]) == 0
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("uvms: warning: sliding-mode controller: its b bounds miss")
+
+
+def test_uvms_run_and_compare_warn_before_running(monkeypatch, capsys, tmp_path):
+    """``uvms run`` with an smc-ab scenario says it once before simulating, ``pid`` says nothing; every case of
+    a comparison is checked (no simulation here: the runs are replaced)."""
+    import uvms.sim.scenario as scenario_module
+    from uvms.cli import main
+    from uvms.control import compare
+
+    ran = []
+
+    def no_run(scenario, progress=None):
+        ran.append(scenario.name)
+        raise KeyboardInterrupt                   # stop before anything is simulated or written
+
+    monkeypatch.setattr(scenario_module, "run_scenario", no_run)
+    assert main(["run", "bluerov2_heavy_alpha5_hold6", "-o", str(tmp_path / "a")]) == 130
+    err = capsys.readouterr().err.splitlines()
+    assert ran == ["bluerov2_heavy_alpha5_hold6"] and len(err) == 2
+    assert err[0].startswith("uvms: warning: sliding-mode controller: its b bounds miss model 'bluerov2_heavy_alpha5'")
+    assert main(["run", "bluerov2_heavy_alpha5_reach", "-o", str(tmp_path / "b")]) == 130     # pid
+    assert capsys.readouterr().err == "uvms: interrupted\n"
+
+    monkeypatch.setattr("uvms.sim.run.simulate", lambda **options: options["controller"])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        labels = [c.label for c in compare.SIX_AXIS_CASES]
+        built = [compare.run_case(None, case, scenario="bluerov2_heavy_alpha5_hold6")
+                 for case in compare.SIX_AXIS_CASES]
+    assert len(built) == len(labels)
+    assert [str(w.message)[:40] for w in caught if "b bounds" in str(w.message)] == [
+        "sliding-mode controller: its b bounds mi"]

@@ -49,7 +49,9 @@ def run(args: argparse.Namespace) -> int:
         raise UvmsInputError("expected a folder name, found an empty string", None, "--output")
     out = Path(args.output) if args.output is not None else Path("runs") / scenario.name
     _check_output(out, force=args.force)
+    from uvms.control.smc import warn_controller_b_bounds
 
+    warn_controller_b_bounds(scenario.next_controller())   # b bounds that miss the plant: one warning line
     progress = _Progress(scenario.name)
     try:
         result = run_scenario(scenario, progress=progress)

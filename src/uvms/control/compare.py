@@ -233,6 +233,7 @@ def run_case(model, case: Case, *, scenario=PAPER_SCENARIO, duration: float | No
     (:func:`uvms.sim.scenario.scenario_from_data`).
     """
     from uvms.control.registry import make_controller
+    from uvms.control.smc import warn_controller_b_bounds
     from uvms.sim.health import actuation_metadata
     from uvms.sim.run import Actuation, simulate
 
@@ -253,6 +254,7 @@ def run_case(model, case: Case, *, scenario=PAPER_SCENARIO, duration: float | No
         if hydro_scale is not None and case.controller in SLIDING_MODE:
             parameters.setdefault("hydro_scale", hydro_scale)
         controller = make_controller(case.controller, model, period=period, parameters=parameters)
+        warn_controller_b_bounds(controller)      # one line for every case that relies on bounds that miss
     options = scenario.simulate_options()
     if actuation is None:
         actuation = Actuation() if paper else options["actuation"]

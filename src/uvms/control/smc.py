@@ -293,6 +293,16 @@ def warn_b_bounds(model, parameters: SlidingModeParameters) -> str | None:
     return line
 
 
+def warn_controller_b_bounds(controller) -> str | None:
+    """:func:`warn_b_bounds` for a controller about to be used (``uvms run`` after its inputs are checked,
+    every case of :func:`uvms.control.compare.run_case`): only a sliding-mode controller can warn; any other
+    (``pid``, ``lqr``, a user's) or ``None`` returns ``None``. A sweep's workers do not call it (their runs are
+    counted in the sweep's table, not on the terminal)."""
+    if not isinstance(controller, SlidingModeController):
+        return None
+    return warn_b_bounds(controller.plant, controller.parameters)
+
+
 # ------------------------------------------------------------------------------------------ the controller
 
 
@@ -403,14 +413,10 @@ class SlidingModeController(CompiledController):
         return gains
 
     def compiled(self, n_updates: int):
-        """The controller's :class:`~uvms.control.kernels.ControllerData`, built for each run (after its inputs
-        are checked): the moment the controller is used, so the b bounds' fit is checked here
-        (:func:`warn_b_bounds`)."""
         from uvms.control import kernels as ck
         from uvms.control.kinds import SLIDING
 
         par = self.parameters
-        warn_b_bounds(self.plant, par)
         return ck.controller_data(kind=SLIDING, n_joints=self.plant.n_joints, period=self.period,
                                   axes=slots(self.axes), gains=self.gain_table(), targets=par.targets(),
                                   n_signals=len(self.signal_names),

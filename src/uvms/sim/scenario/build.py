@@ -93,6 +93,16 @@ class Scenario:
         spare = self._built.pop("controller", None)
         return spare if spare is not None else build_controller(c, self.model, self.source)
 
+    def next_controller(self):
+        """The controller the next run will take (built now if no spare is kept), left in place: what
+        ``uvms run`` checks before simulating (``None`` without one)."""
+        c = self.spec.controller
+        if c is None:
+            return None
+        if self._built.get("controller") is None:
+            self._built["controller"] = build_controller(c, self.model, self.source)
+        return self._built["controller"]
+
     def prebuild(self) -> None:
         """Build now what can refuse the scenario (a trimmed initial state, the controller) and keep it for the
         run (module doc).
