@@ -238,27 +238,31 @@ def test_the_known_exceptions_are_still_imports():
 def test_every_module_compiling_with_the_ground_floors_decorators_keys_the_kernel_cache(tmp_path):
     """numba's cache checks only the timestamp of a function's own file: an edit of any module that compiles
     with :mod:`uvms.jit` must change the cache folder's fingerprint (:func:`uvms._cache._fingerprint`)."""
+    compiled = sorted(m for m, targets in _uvms_imports().items() if "uvms.jit" in targets)
+    assert len(compiled) > 20 and "uvms.hydro.buoyancy" in compiled
+    files = {_module_name(p): p for p in SRC.rglob("*.py")}
+    assert not _edits_that_keep_the_fingerprint(tmp_path, {m: files[m] for m in compiled})
+
+
+def _edits_that_keep_the_fingerprint(tmp_path, modules: dict) -> list[str]:
+    """The modules (name -> source path) whose edit, in a copy of the package, leaves the kernel cache's
+    fingerprint (:func:`uvms._cache._fingerprint`) as it was."""
     import shutil
 
     from uvms._cache import _fingerprint
 
     package = tmp_path / "uvms"
     shutil.copytree(SRC, package, ignore=shutil.ignore_patterns("__pycache__"))
-    compiled = sorted(m for m, targets in _uvms_imports().items() if "uvms.jit" in targets)
-    assert len(compiled) > 20 and "uvms.hydro.buoyancy" in compiled
     before = _fingerprint(package)
     unchanged = []
-    for module in compiled:
-        parts = module.split(".")[1:]
-        path = package.joinpath(*parts).with_suffix(".py")
-        if not path.is_file():
-            path = package.joinpath(*parts, "__init__.py")
+    for module in sorted(modules):
+        path = package / modules[module].relative_to(SRC)
         text = path.read_text()
         path.write_text(text + "\n# edited\n")
         if _fingerprint(package) == before:
             unchanged.append(module)
         path.write_text(text)
-    assert not unchanged, unchanged
+    return unchanged
 
 
 STATE_OFFSETS = re.compile(r"\[\s*:?,?\s*(?:3:7|7:13|13:|0:3\]\s*,\s*\w+\[3:7)|\b13 \+ (?:2 \* )?n\b|- 13 - 2 \*")
@@ -285,9 +289,6 @@ def test_every_module_whose_constants_a_kernel_reads_keys_the_kernel_cache(tmp_p
     folder's fingerprint when edited (the state offsets of :mod:`uvms.state`, the columns of
     :mod:`uvms.dynamics.kernel_model` ...)."""
     import ast
-    import shutil
-
-    from uvms._cache import _fingerprint
 
     files = {_module_name(p): p for p in SRC.rglob("*.py")}
     read = set()
@@ -300,15 +301,4 @@ def test_every_module_whose_constants_a_kernel_reads_keys_the_kernel_cache(tmp_p
                                                          for word in ("jit", "kernel", "block", "allocating")):
                 read.update(constants[n.id] for n in ast.walk(node) if isinstance(n, ast.Name) and n.id in constants)
     assert {"uvms.state", "uvms.dynamics.kernel_model", "uvms.kinematics"} <= read
-    package = tmp_path / "uvms"
-    shutil.copytree(SRC, package, ignore=shutil.ignore_patterns("__pycache__"))
-    before = _fingerprint(package)
-    unchanged = []
-    for module in sorted(read):
-        path = package / files[module].relative_to(SRC)
-        text = path.read_text()
-        path.write_text(text + "\n# edited\n")
-        if _fingerprint(package) == before:
-            unchanged.append(module)
-        path.write_text(text)
-    assert not unchanged, unchanged
+    assert not _edits_that_keep_the_fingerprint(tmp_path, {m: files[m] for m in read})

@@ -26,36 +26,32 @@ class _NotLoaded:
     """Stands for a class whose module was never imported: no value is an instance of it."""
 
 
-_Model: type | None = None
-_State: type | None = None
+_FOUND: dict[tuple[str, str], type] = {}
 
 
 def _loaded(module: str, name: str) -> type:
-    """The class ``module.name`` if its module has been imported, else :class:`_NotLoaded`.
+    """The class ``module.name`` if its module has been imported (kept once found), else :class:`_NotLoaded`.
 
     This module is on the ground floor (``docs/architecture.md``): it imports nothing of ``uvms.model`` or
     :mod:`uvms.state` (both import it), yet an instance of their classes can only exist once they are imported,
     so the isinstance checks stay exact."""
-    found = getattr(sys.modules.get(module), name, None)
-    return found if isinstance(found, type) else _NotLoaded
+    found = _FOUND.get((module, name))
+    if found is None:
+        found = getattr(sys.modules.get(module), name, None)
+        if not isinstance(found, type):
+            return _NotLoaded
+        _FOUND[(module, name)] = found
+    return found
 
 
 def _model_class() -> type:
-    """:class:`uvms.model.model.Model` (kept once loaded), or :class:`_NotLoaded`."""
-    global _Model
-    found = _loaded("uvms.model.model", "Model")
-    if found is not _NotLoaded:
-        _Model = found
-    return found
+    """:class:`uvms.model.model.Model`, or :class:`_NotLoaded`."""
+    return _loaded("uvms.model.model", "Model")
 
 
 def _state_class() -> type:
-    """:class:`uvms.state.State` (kept once loaded), or :class:`_NotLoaded`."""
-    global _State
-    found = _loaded("uvms.state", "State")
-    if found is not _NotLoaded:
-        _State = found
-    return found
+    """:class:`uvms.state.State`, or :class:`_NotLoaded`."""
+    return _loaded("uvms.state", "State")
 
 
 MAX_RECORDED_VALUES = 2 * 10**8
@@ -198,16 +194,16 @@ def callable_or_none(value: Any, name: str, signature: str) -> Callable | None:
 
 def model(value: Any, name: str = "model"):
     """``value`` if it is a :class:`uvms.Model`."""
-    if isinstance(value, _Model or _model_class()):
+    if isinstance(value, _model_class()):
         return value
     raise fail(name, f"expected a uvms Model (from uvms.load_model), got {show(value)}")
 
 
 def state(model_: Any, value: Any, name: str = "state"):
     """``value`` if it is a :class:`uvms.State` with the joints of ``model_`` (checked first)."""
-    if not isinstance(model_, _Model or _model_class()):
+    if not isinstance(model_, _model_class()):
         model(model_)
-    if not isinstance(value, _State or _state_class()):
+    if not isinstance(value, _state_class()):
         raise fail(name, f"expected a uvms State (e.g. uvms.State.from_euler(model, ...)), got {show(value)}")
     n = model_.n_joints
     if value.q.shape[0] != n:
