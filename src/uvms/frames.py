@@ -1,0 +1,104 @@
+"""The two world/body frame conventions uvms supports, and the one map between them (``docs/conventions.md``,
+"Frames").
+
+- ``"ned"`` (the default, Fossen's marine convention): world z down (x north, y east), body x forward, y right,
+  z down (FRD).
+- ``"enu"`` (ROS REP 103): world z up (x east, y north), body x forward, y left, z up (FLU).
+
+A pool, a motion-capture hall or a Gazebo world has no north, so uvms maps between the two by a **half turn about
+x**, applied to the world and to every body frame alike: a point or vector ``(x, y, z)`` becomes ``(x, -y, -z)``
+(ROS REP 103 names this map for FRD <-> FLU bodies; it is *not* the geographic NED <-> ENU swap
+``(y, x, -z)``, which also exchanges north and east). The map is its own inverse. With ``H = diag(1, -1, -1)``:
+
+- a world point ``p`` and a body vector ``v`` (rates, velocities, forces, moments, in body axes) go to ``H p``
+  and ``H v``;
+- a body-to-world rotation ``R`` goes to ``H R H`` and the unit quaternion ``[w, x, y, z]`` to
+  ``[w, x, -y, -z]`` (the half-turn quaternion ``[0, 1, 0, 0]`` conjugating it);
+- ZYX Euler angles ``(roll, pitch, yaw)`` go to ``(roll, -pitch, -yaw)``;
+- a spatial inertia ``I`` (``[angular; linear]``) goes to ``H6 I H6`` with ``H6 = diag(H, H)``.
+
+Quaternions in ROS messages and most logs are ordered ``(x, y, z, w)``; uvms stores ``(w, x, y, z)``
+(:func:`quaternion_wxyz`).
+
+Ground floor (``docs/architecture.md``): this module imports nothing of uvms but :mod:`uvms.errors`.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+
+from uvms.errors import UvmsInputError
+
+Frame = Literal["ned", "enu"]
+FRAMES: tuple[str, ...] = ("ned", "enu")
+"""The frame names, the default first."""
+
+HALF_TURN = np.diag([1.0, -1.0, -1.0])
+"""``H``: the rotation by pi about x that maps one convention's coordinates onto the other's (its own inverse)."""
+
+UP = {"ned": np.array([0.0, 0.0, -1.0]), "enu": np.array([0.0, 0.0, 1.0])}
+"""The world's up direction in each convention's coordinates."""
+
+GRAVITY_DIRECTION = {"ned": np.array([0.0, 0.0, 1.0]), "enu": np.array([0.0, 0.0, -1.0])}
+"""The direction gravity points in each convention (``-UP``): gravity is ``g * GRAVITY_DIRECTION[frame]``."""
+
+
+def check_frame(frame: str, where: str = "frame") -> str:
+    """``frame`` if it names a convention, else a one-line :class:`~uvms.errors.UvmsInputError`."""
+    if frame not in FRAMES:
+        raise UvmsInputError(f"{where}: expected one of {', '.join(FRAMES)} (ned: world z down, body "
+                             f"forward-right-down; enu: world z up, body forward-left-up), got {frame!r}")
+    return frame
+
+
+def _same(source: str, target: str) -> bool:
+    return check_frame(source, "source frame") == check_frame(target, "target frame")
+
+
+def convert_vectors(v, source: str, target: str) -> np.ndarray:
+    """World points or body vectors (``(..., 3)``) from ``source``'s coordinates to ``target``'s: ``H v``."""
+    v = np.array(v, dtype=float)
+    if not _same(source, target):
+        v[..., 1:3] *= -1.0
+    return v
+
+
+def convert_quaternions(q, source: str, target: str) -> np.ndarray:
+    """Body-to-world unit quaternions ``[w, x, y, z]`` (``(..., 4)``) from ``source`` to ``target``:
+    ``[w, x, -y, -z]`` (the rotation ``H R H``)."""
+    q = np.array(q, dtype=float)
+    if not _same(source, target):
+        q[..., 2:4] *= -1.0
+    return q
+
+
+def convert_euler(euler, source: str, target: str) -> np.ndarray:
+    """ZYX Euler angles ``(roll, pitch, yaw)`` (``(..., 3)``) from ``source`` to ``target``: ``(roll, -pitch,
+    -yaw)`` (the Euler angles of ``H R H``)."""
+    return convert_vectors(euler, source, target)
+
+
+def convert_twists(nu, source: str, target: str) -> np.ndarray:
+    """Body twists or wrenches ``[angular; linear]`` (``(..., 6)``) from ``source`` to ``target``: ``H6 nu``."""
+    nu = np.array(nu, dtype=float)
+    if not _same(source, target):
+        nu[..., [1, 2, 4, 5]] *= -1.0
+    return nu
+
+
+def convert_spatial_matrix(M, source: str, target: str) -> np.ndarray:
+    """A 6x6 body matrix in ``[angular; linear]`` coordinates (spatial inertia, added mass, damping):
+    ``H6 M H6``."""
+    M = np.array(M, dtype=float)
+    if not _same(source, target):
+        h = np.array([1.0, -1.0, -1.0, 1.0, -1.0, -1.0])
+        M = h[:, None] * M * h[None, :]
+    return M
+
+
+def quaternion_wxyz(q_xyzw) -> np.ndarray:
+    """A quaternion (or ``(..., 4)`` rows) ordered ``(x, y, z, w)`` (ROS) reordered to uvms's ``(w, x, y, z)``."""
+    q = np.asarray(q_xyzw, dtype=float)
+    return np.concatenate([q[..., 3:4], q[..., 0:3]], axis=-1)
