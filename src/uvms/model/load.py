@@ -128,10 +128,23 @@ def _file_key(path) -> tuple:
 
 def _load_model_file(name_or_path, options: dict | None = None) -> tuple[Model, tuple]:
     """The model of a YAML file (bundled name or path) and the robot description files it was built from;
-    ``options`` (keywords of :func:`load_model`) replace the fields of a URDF model YAML."""
+    ``options`` (keywords of :func:`load_model`) replace the fields of a URDF model YAML; the file's
+    ``identified.parameters`` are set on the built model (:func:`uvms.model.parameters.with_parameters`)."""
+    spec, source = load_model_spec(name_or_path)
+    model, robot = _built(spec, source, options)
+    if spec.identified.parameters:
+        from uvms.model.parameters import with_parameters
+
+        try:
+            model = with_parameters(model, spec.identified.parameters, "identified.parameters")
+        except UvmsInputError as exc:
+            raise UvmsInputError(exc.message, source, exc.path) from None
+    return model, robot
+
+
+def _built(spec, source, options: dict | None) -> tuple[Model, tuple]:
     from uvms.model.urdf import is_robot_description
 
-    spec, source = load_model_spec(name_or_path)
     try:
         if isinstance(spec, UrdfModelSpec):
             if options:

@@ -543,6 +543,15 @@ Thrusters = Annotated[tuple[ThrusterSpec, ...], AfterValidator(_unique_thrusters
 """A model's thruster list (DH or URDF route): names unique."""
 
 
+class IdentifiedSpec(Spec):
+    """``identified:``: parameters set on the built model (:mod:`uvms.model.parameters`, names such as
+    ``buoyancy``, ``cob.z``, ``damping.linear.pitch``) and the record of how they were found (free-form,
+    written by ``uvms identify``: method, logs, held-out logs, uncertainties, scores)."""
+
+    parameters: dict[Name, float] = {}
+    record: dict[str, Any] = {}
+
+
 class ModelSpec(Spec):
     """A whole model file: environment, vehicle, optional arm and thrusters."""
 
@@ -552,6 +561,7 @@ class ModelSpec(Spec):
     vehicle: VehicleSpec
     arm: ArmSpec | None = None
     thrusters: Thrusters = ()
+    identified: IdentifiedSpec = IdentifiedSpec()   # parameters set after building (uvms identify)
 
 
 # --- a URDF and its additions (docs/models.md, "URDF") ----------------------------------------------------
@@ -663,3 +673,4 @@ class UrdfModelSpec(Spec):
     package_paths: dict[Name, Name] = {}          # xacro $(find pkg) folders, relative to this file
     allow_environment: Annotated[bool, Strict()] = False  # xacro $(env VAR) / $(optenv VAR) may read
     xacro_args: dict[Name, Annotated[str, Strict()]] = {}  # xacro <xacro:arg> values ($(arg name))
+    identified: IdentifiedSpec = IdentifiedSpec()   # parameters set after building (uvms identify)

@@ -1,0 +1,125 @@
+"""Named scalar parameters of a built model: what ``uvms identify`` fits and a model file's ``identified:``
+block sets (``docs/logs.md``, "Identification"; ``docs/models.md``, "Identified parameters").
+
+A parameter name is ``[<body>:]<quantity>``; the body is the vehicle unless named (a body name of the model,
+e.g. ``wrist:buoyancy``). Quantities, all of the *built* body (links merged into it by fixed joints and point
+loads included), body axes, SI units:
+
+| quantity | model field | unit |
+| --- | --- | --- |
+| ``buoyancy`` | ``buoyancy_mass[b]``, displaced-fluid mass ``m_f`` (paper Eq. 7) | kg |
+| ``cob.x``, ``cob.y``, ``cob.z`` | ``cob[b]``, centre of buoyancy (Eq. 8) | m |
+| ``damping.linear.<axis>`` | diagonal of Fossen's ``D_l`` of the body (``damping_linear[b]``) | N s/m, N m s/rad |
+| ``damping.quadratic.<axis>`` | diagonal of ``D_q`` (``damping_quadratic[b]``) | N s^2/m^2, N m s^2/rad^2 |
+| ``added_mass.<axis>`` | diagonal of the added-mass matrix about the body origin (``added_mass[b]``) | kg m^2, kg |
+
+``<axis>`` is one of ``roll, pitch, yaw, surge, sway, heave``, the entries of uvms's ``[angular; linear]``
+6-vectors in that order (Fossen's ``K, M, N, X, Y, Z``). A damping or added-mass *matrix* keeps its
+off-diagonal entries; only the named diagonal entry is set. Fossen damping acts about the body's damping point
+(``damping_point[b]``), unchanged.
+
+Setting a parameter replaces the built model's value; it never edits the file the model came from. The model's
+frame convention is the one its numbers are in (``cob.y`` of a ``ned`` model is ``-cob.y`` of the same robot
+written ``enu``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from uvms.errors import UvmsInputError
+
+AXES = ("roll", "pitch", "yaw", "surge", "sway", "heave")
+"""Axis names of the entries of a ``[angular; linear]`` 6-vector, in order."""
+
+_UNITS_6 = {"damping.linear": ("N m s/rad",) * 3 + ("N s/m",) * 3,
+            "damping.quadratic": ("N m s^2/rad^2",) * 3 + ("N s^2/m^2",) * 3,
+            "added_mass": ("kg m^2",) * 3 + ("kg",) * 3}
+_FIELD_6 = {"damping.linear": "damping_linear", "damping.quadratic": "damping_quadratic",
+            "added_mass": "added_mass"}
+MAX_PARAMETERS = 64
+"""Most parameters one model file or one identification may name."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One scalar of a built model: ``body`` (index), ``field`` (the :class:`~uvms.model.Model` attribute),
+    ``index`` (into that body's entry), its canonical ``name`` and ``unit``."""
+
+    name: str
+    body: int
+    field: str
+    index: tuple[int, ...]
+    unit: str
+
+    def value(self, model) -> float:
+        """This parameter's value in ``model``."""
+        return float(np.asarray(getattr(model, self.field))[(self.body, *self.index)])
+
+
+def quantities() -> tuple[str, ...]:
+    """Every quantity name a parameter may have (without a body prefix)."""
+    out = ["buoyancy", "cob.x", "cob.y", "cob.z"]
+    out += [f"{q}.{axis}" for q in _FIELD_6 for axis in AXES]
+    return tuple(out)
+
+
+def parameter(model, name: str, where: str = "parameter") -> Parameter:
+    """The :class:`Parameter` called ``name`` in ``model``; an unknown name is one line listing the quantities."""
+    if not isinstance(name, str) or not name.strip():
+        raise UvmsInputError(f"{where}: expected a parameter name such as 'buoyancy' or 'cob.z', got {name!r}")
+    text = name.strip()
+    body_name, _, quantity = text.rpartition(":")
+    body = 0
+    if body_name:
+        if body_name not in model.body_names:
+            raise UvmsInputError(f"{where}: no body {body_name!r} in model {model.name!r} (bodies: "
+                                 f"{', '.join(model.body_names)})")
+        body = model.body_names.index(body_name)
+    prefix = f"{body_name}:" if body_name else ""
+    if quantity == "buoyancy":
+        return Parameter(prefix + quantity, body, "buoyancy_mass", (), "kg")
+    if quantity in ("cob.x", "cob.y", "cob.z"):
+        return Parameter(prefix + quantity, body, "cob", ("xyz".index(quantity[-1]),), "m")
+    group, _, axis = quantity.rpartition(".")
+    if group in _FIELD_6 and axis in AXES:
+        k = AXES.index(axis)
+        return Parameter(prefix + quantity, body, _FIELD_6[group], (k, k), _UNITS_6[group][k])
+    raise UvmsInputError(f"{where}: unknown parameter {name!r}; expected [<body>:]<quantity> with quantity one of "
+                         f"buoyancy, cob.x|y|z, damping.linear.<axis>, damping.quadratic.<axis>, "
+                         f"added_mass.<axis> and <axis> one of {', '.join(AXES)}")
+
+
+def with_parameters(model, values: Mapping[str, float], where: str = "parameters"):
+    """A copy of ``model`` with each named parameter set (``{name: value}``, SI units; see the module
+    docstring). Values must be finite; a buoyancy, damping or added-mass diagonal must not be negative."""
+    if len(values) > MAX_PARAMETERS:
+        raise UvmsInputError(f"{where}: expected at most {MAX_PARAMETERS} parameters, got {len(values)}")
+    arrays: dict[str, np.ndarray] = {}
+    seen: set[str] = set()
+    for name, value in values.items():
+        p = parameter(model, name, where)
+        if p.name in seen:
+            raise UvmsInputError(f"{where}: parameter {p.name!r} given twice")
+        seen.add(p.name)
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            raise UvmsInputError(f"{where}.{name}: expected a number, got {value!r}") from None
+        if not np.isfinite(v):
+            raise UvmsInputError(f"{where}.{name}: expected a finite number, got {v}")
+        if p.field != "cob" and v < 0.0:
+            raise UvmsInputError(f"{where}.{name}: expected a value >= 0 {p.unit}, got {v:g}")
+        if p.field not in arrays:
+            arrays[p.field] = np.array(getattr(model, p.field), dtype=float)
+        arrays[p.field][(p.body, *p.index)] = v
+    if "added_mass" in arrays:
+        for b in range(model.n_bodies):
+            eig = np.linalg.eigvalsh(0.5 * (arrays["added_mass"][b] + arrays["added_mass"][b].T))
+            if eig.min() < -1e-9 * max(1.0, abs(eig).max()):
+                raise UvmsInputError(f"{where}: the added-mass matrix of body {model.body_names[b]!r} is no longer "
+                                     f"positive semi-definite (smallest eigenvalue {eig.min():.3g})")
+    return model.replace(**arrays) if arrays else model
