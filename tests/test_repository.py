@@ -100,7 +100,7 @@ FLOORS = (
     ("analysis", ("uvms.analysis",)),
     ("sim", ("uvms.sim",)),
     ("presentation", ("uvms.plots", "uvms.view")),
-    ("experiments", ("uvms.reproduce", "uvms.control.compare", "uvms.sweep", "uvms.paper_figures")),
+    ("experiments", ("uvms.reproduce", "uvms.control.compare", "uvms.sweep", "uvms.paper_figures", "uvms.identify")),
     ("face", ("uvms.commands", "uvms.cli", "uvms.__main__", "uvms.gym", "uvms.interop", "uvms.precompile")),
 )
 """The floors, lowest first: a module may import its own floor and those below it, never one above. ``math``

@@ -1,0 +1,108 @@
+"""Output-error identification (uvms.identify) recovers parameters that made synthetic logs, within the
+uncertainties it reports; held-out experiments are scored, never fitted; the fitted model file loads."""
+
+import numpy as np
+import pytest
+
+import uvms
+from uvms.errors import UvmsInputError
+from uvms.identify import Experiment, identify
+from uvms.identify.experiment import result_signals, signal_values
+from uvms.identify.write import write_fitted_model
+from uvms.model.parameters import with_parameters
+from uvms.rotations import quaternion_from_euler
+
+NOISE_DEG = 0.1
+NOISE_M = 0.001
+SCALE = {"roll": np.radians(NOISE_DEG), "pitch": np.radians(NOISE_DEG), "depth": NOISE_M}
+
+
+def _experiments(truth, starts, seed, duration=6.0):
+    """Logs that ``truth`` made from tilted starts, with white noise of known size added."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for k, euler in enumerate(starts):
+        state = uvms.State.zero(truth).replace(quaternion=quaternion_from_euler(np.array(euler)))
+        run = uvms.simulate(truth, state, duration=duration, step=0.005, record_period=0.05)
+        clean = result_signals(run, run.time, ("roll", "pitch", "depth"))
+        noisy = {s: v + rng.normal(0.0, SCALE[s], v.shape) for s, v in clean.items()}
+        out.append(Experiment(f"trial{seed}-{k}", state, duration, run.time, noisy, step=0.005))
+    return out
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    base = uvms.load_model("paper")
+    truth = with_parameters(base, {"cob.z": base.cob[0, 2] - 0.01, "buoyancy": base.buoyancy_mass[0] * 1.02})
+    fit = _experiments(truth, [(0.15, 0.1, 0.0), (-0.1, 0.2, 0.3)], seed=1)
+    held = _experiments(truth, [(0.05, -0.2, 0.1)], seed=2)
+    result = identify(base, fit, ["cob.z", "buoyancy"], held_out=held, signals=("roll", "pitch", "depth"),
+                      scale=SCALE, threads=2)
+    return base, truth, result
+
+
+def test_recovers_the_parameters_that_made_the_logs_within_its_uncertainty(fitted):
+    base, truth, result = fitted
+    true_values = np.array([truth.cob[0, 2], truth.buoyancy_mass[0]])
+    start = np.array([base.cob[0, 2], base.buoyancy_mass[0]])
+    assert result.converged, result.message
+    assert np.all(np.abs(start - true_values) > 100 * result.std)          # the start was far off
+    assert np.all(np.abs(result.values - true_values) <= 3.0 * result.std), (result.values, result.std)
+    assert np.all(result.std >= result.std_white)
+    assert result.at_bound == ()
+
+
+def test_the_fitted_residual_is_the_noise_and_held_out_trials_are_scored_apart(fitted):
+    _, _, result = fitted
+    roles = [s["role"] for s in result.scores]
+    assert roles == ["fit", "fit", "held_out"]
+    for s in result.scores:
+        # white noise of NOISE_DEG has an RMSE of NOISE_DEG: the fitted model leaves only the noise
+        assert s["pitch_rmse_deg_after"] == pytest.approx(NOISE_DEG, rel=0.25)
+        assert s["roll_rmse_deg_after"] == pytest.approx(NOISE_DEG, rel=0.25)
+        assert s["pitch_rmse_deg_before"] > 10 * NOISE_DEG
+    record = result.to_dict()
+    assert record["held_out"] == ["trial2-0"] and record["fitted_on"] == ["trial1-0", "trial1-1"]
+
+
+def test_the_fitted_model_file_loads_with_the_fitted_values_and_its_record(fitted, tmp_path):
+    base, _, result = fitted
+    path = write_fitted_model(result, base.source, tmp_path / "sub" / "paper_fit.yaml", logs=["a.yaml"])
+    model = uvms.load_model(path)
+    assert model.name == "paper_fit"
+    assert model.cob[0, 2] == result.values[0] and model.buoyancy_mass[0] == result.values[1]
+    np.testing.assert_array_equal(model.mass, base.mass)
+    text = path.read_text()
+    assert "held_out:" in text and "trial2-0" in text and "a.yaml" in text
+
+
+def test_a_bound_that_stops_the_fit_is_named():
+    base = uvms.load_model("paper")
+    truth = with_parameters(base, {"cob.z": base.cob[0, 2] - 0.01})
+    fit = _experiments(truth, [(0.15, 0.1, 0.0)], seed=3, duration=3.0)
+    result = identify(base, fit, [f"cob.z={base.cob[0, 2] - 0.005}:0.0"], scale=SCALE, threads=2)
+    assert result.at_bound == ("cob.z",)
+    assert result.values[0] == pytest.approx(base.cob[0, 2] - 0.005)
+
+
+@pytest.mark.parametrize("parameters, message", [
+    (["cob.q"], "unknown parameter"),
+    (["cob.z=1:0"], "lower < upper"),
+    (["cob.z", "cob.z"], "given twice"),
+])
+def test_bad_fits_are_one_line(parameters, message):
+    base = uvms.load_model("paper")
+    e = Experiment("e", uvms.State.zero(base), 1.0, np.array([0.0, 1.0]), {"roll": [0, 0], "pitch": [0, 0]})
+    with pytest.raises(UvmsInputError, match=message):
+        identify(base, [e], parameters)
+    with pytest.raises(UvmsInputError, match="both fitted and held out"):
+        identify(base, [e], ["cob.z"], held_out=[e])
+
+
+def test_signals_by_hand():
+    times = np.array([0.0, 1.0, 2.0])
+    position = np.array([[0.0, 0.0, 1.0], [0.1, 0.2, 1.5], [0.2, 0.4, 0.5]])
+    euler = np.array([[0.1, 0.2, 3.1], [0.1, 0.2, -3.1], [0.1, 0.2, -3.0]])
+    np.testing.assert_allclose(signal_values("depth", times, position, euler, "ned"), [0.0, 0.5, -0.5])
+    np.testing.assert_allclose(signal_values("depth", times, position, euler, "enu"), [0.0, -0.5, 0.5])
+    np.testing.assert_allclose(signal_values("yaw", times, position, euler), [0.0, 2 * np.pi - 6.2, 2 * np.pi - 6.1])
