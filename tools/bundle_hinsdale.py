@@ -105,11 +105,11 @@ def stream_info(df: pd.DataFrame, rel: str, size: int, rows: int) -> dict:
             "source": {"file": rel.split("/")[-1], "bytes": size, "rows": rows}}
 
 
-def trial_names(code: str) -> tuple[str, str, str]:
-    """(trial name, metadata file, trajectory yaml) for a code of the authors' lists."""
-    if code.startswith("baseline"):
+def trial_names(code: str, role: str) -> tuple[str, str, str]:
+    """(trial name, metadata file, trajectory yaml) for a code of the authors' lists (009-0 is in both)."""
+    if role == "baseline":
         return code, "", ""
-    if code in HELD_OUT:
+    if role == "held_out":
         return (f"traj_alt_{code}", f"{DATA}/metadata__alt_{code}.yml",
                 f"data/combo_traj_yaml_files_otherhome/traj{code[:3]}/traj{code}.yaml")
     return (f"traj{code}", f"{DATA}/metadata_{code}.yml",
@@ -137,7 +137,7 @@ def log_yaml(name: str, role: str, start: float, duration: float, has_imu: bool)
 
 
 def bundle_trial(src: Source, code: str, role: str, out: Path) -> dict:
-    name, meta_file, traj_file = trial_names(code)
+    name, meta_file, traj_file = trial_names(code, role)
     d = out / name
     d.mkdir(parents=True, exist_ok=True)
     entry: dict = {"name": name, "role": role}
@@ -153,8 +153,13 @@ def bundle_trial(src: Source, code: str, role: str, out: Path) -> dict:
     t_first = max(s["t0"] for s in streams.values())
     t_last = min(s["t1"] for s in streams.values())
     if meta_file:
-        start = float(yaml.safe_load(src.read(meta_file))["start_time"])
+        start_time = float(yaml.safe_load(src.read(meta_file))["start_time"])
+        entry["start_time"] = start_time
         entry["start_source"] = f"{meta_file.split('/')[-1]} start_time"
+        start = start_time
+        if start < t_first:  # traj006-4: start_time -0.2, before any stream has begun
+            start = math.ceil(t_first * 100) / 100
+            entry["start_source"] += " (before the streams begin: moved to the first time all three have begun)"
         arm = yaml.safe_load(src.read(traj_file))
         entry["arm_motion_duration"] = round(float(arm["duration"]), 4)
         entry["arm_motion_file"] = traj_file
