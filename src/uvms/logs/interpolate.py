@@ -22,7 +22,7 @@ def values(t: np.ndarray, y: np.ndarray, at: np.ndarray, method: str = "linear")
         from scipy.interpolate import CubicSpline
 
         return CubicSpline(t, y, axis=0)(at)
-    return np.stack([np.interp(at, t, column) for column in y.T], axis=-1).reshape(at.size, y.shape[1])
+    return np.array([np.interp(at, t, column) for column in y.T]).T.reshape(at.size, y.shape[1])
 
 
 def held(t: np.ndarray, y: np.ndarray, at: np.ndarray) -> np.ndarray:

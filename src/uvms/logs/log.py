@@ -100,7 +100,7 @@ def _read_stream(key: str, spec: StreamSpec, base_dir: Path) -> Stream:
     path = Path(spec.file).expanduser()
     table = read_table(path if path.is_absolute() else base_dir / path, spec.time, described,
                        time_scale=spec.time_scale, time_offset=spec.time_offset)
-    parts = {part: np.stack([table.values[c] for c in columns], axis=-1).reshape(table.time.size, len(columns))
+    parts = {part: np.array([table.values[c] for c in columns]).T.reshape(table.time.size, len(columns))
              for part, columns in wanted.items()}
     if "quaternion" in parts:
         parts["quaternion"] = _unit_quaternions(parts["quaternion"], table.lines, wanted["quaternion"],

@@ -70,7 +70,8 @@ def initial_state(log, model, *, frame: str | None = None, window: float = FIT_W
             with too few rows, ``omega_from="imu"`` without IMU rates.
     """
     checks.model(model)
-    target = frames.check_frame(frame if frame is not None else getattr(model, "frame", "ned"), "frame")
+    own = getattr(model, "frame", "ned")                  # a model written z up says so in Model.frame
+    target = frames.check_frame(frame if frame is not None else own if isinstance(own, str) else "ned", "frame")
     window = checks.number(window, "window", positive=True, unit="s")
     degree = checks.count(degree, "degree", minimum=1)
     if omega_from not in OMEGA_SOURCES:
