@@ -94,7 +94,9 @@ def _check_columns(names: list[str], wanted: list[str], source: str, keys: dict[
         where = f"column {show(column)} ({keys[column]})"
         if count > 1:
             raise UvmsInputError(f"the header names this column {count} times", source, where)
-        raise UvmsInputError(f"no such column; the header has: {show(', '.join(names), 200)}", source, where)
+        listed = ", ".join(names)
+        listed = listed if len(listed) <= 200 else listed[:197] + "..."
+        raise UvmsInputError(f"no such column; the header has: {listed}", source, where)
 
 
 def _numbers(frame, column: str, source: str) -> np.ndarray:
