@@ -88,7 +88,8 @@ def test_a_joint_the_model_lacks_is_one_line_listing_the_models_joints(tmp_path,
 
 def test_a_window_with_too_few_rows_and_imu_rates_that_are_not_there(tmp_path, model):
     log = _write_motion(tmp_path)
-    with pytest.raises(UvmsInputError, match=r"window: pose: 2 rows within 0.006 s of the start, a degree-2 fit needs 3"):
+    with pytest.raises(UvmsInputError, match=r"window: pose: 2 rows within 0.006 s of the start, a degree-2 fit "
+                                             r"needs 3"):
         log.initial_state(model, window=0.012)   # rows at 1.00 and 1.01 s only
     with pytest.raises(UvmsInputError, match="omega_from='imu' needs an imu stream"):
         log.initial_state(model, omega_from="imu")

@@ -330,8 +330,8 @@ class Log:
     def resample(self, times, *, position: str = "linear"):
         """Every stream at ``times`` [s from start] in one table: the pose (``x_m..z_m`` linear, or ``cubic``
         with ``position="cubic"``; ``qw..qz`` by Slerp), its ``roll_rad, pitch_rad, yaw_rad`` and ``depth_m``
-        (positive down), the joints (linear), the IMU (``imu_qw..imu_qz`` by Slerp, ``imu_p_rad_s..`` and ``imu_ax_m_s2..``
-        linear) and the thruster commands (``thrust_<name>``, held)."""
+        (positive down), the joints (linear), the IMU (``imu_qw..imu_qz`` by Slerp, ``imu_p_rad_s..`` and
+        ``imu_ax_m_s2..`` linear) and the thruster commands (``thrust_<name>``, held)."""
         if position not in interpolate.METHODS:
             raise UvmsInputError(f"expected one of {', '.join(interpolate.METHODS)}, found {show(position)}",
                                  path="position")
