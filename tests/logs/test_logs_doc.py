@@ -21,6 +21,6 @@ def test_every_key_is_documented():
 def test_the_example_description_is_valid():
     block = re.search(r"```yaml\n(.*?)```", DOC.read_text(encoding="utf-8"), re.S).group(1)
     spec = LogSpec.model_validate(parse_yaml(block, "docs/logs.md"))
-    assert (spec.start, spec.duration, spec.frame) == (3.75, 20.0, "enu")
+    assert (spec.start, spec.duration, spec.frame) == (3.75, 19.0, "enu")
     assert spec.pose.quaternion_columns() == ("w_ori", "x_ori", "y_ori", "z_ori")
     assert spec.joints.offset == {"base": -3.07, "wrist": -2.879}
