@@ -98,7 +98,7 @@ FLOORS = (
     ("dynamics", ("uvms.dynamics",)),
     ("control", ("uvms.control",)),
     ("analysis", ("uvms.analysis",)),
-    ("sim", ("uvms.sim",)),
+    ("sim", ("uvms.sim", "uvms.logs")),
     ("presentation", ("uvms.plots", "uvms.view")),
     ("experiments", ("uvms.reproduce", "uvms.control.compare", "uvms.sweep", "uvms.paper_figures", "uvms.identify")),
     ("face", ("uvms.commands", "uvms.cli", "uvms.__main__", "uvms.gym", "uvms.interop", "uvms.precompile")),

@@ -10,6 +10,7 @@ Public API (stable names)::
     simulate(model, initial_state, ...)        hydrodynamic_wrenches(model, state, ...)
     rollout(model, trials, duration=, ...)     Simulator(model, state, step=, ...): reset(), step(duration)
     Dynamics(model): forward, inverse, mass_matrix (the checked owner of a model's compiled plant)
+    Log.load(path): a recorded run (pose, IMU, joints, thrusters); .resample(t), .initial_state(model), .score()
 
 Names are imported on first use so that ``import uvms`` (and ``uvms --help``) stays fast.
 """
@@ -40,6 +41,7 @@ _EXPORTS = {
     "Model": "uvms.model.model",
     "load_model": "uvms.model.load",
     "State": "uvms.state",
+    "Log": "uvms.logs.log",
     "simulate": "uvms.sim.run",
     "Inputs": "uvms.sim.options",
     "Recording": "uvms.sim.options",
@@ -61,7 +63,7 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS) + ["__version__"]
 
 
-_SUBMODULES = ("reproduce", "sweep", "control", "thrusters", "hydro", "sim", "dynamics", "model")
+_SUBMODULES = ("logs", "reproduce", "sweep", "control", "thrusters", "hydro", "sim", "dynamics", "model")
 
 
 def __getattr__(name: str) -> Any:
