@@ -350,3 +350,41 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], *, dpi: int = 110) ->
             Path(tmp).unlink(missing_ok=True)
             raise
     return path
+
+
+_SIGNAL_LABELS = {"roll": "roll [deg]", "pitch": "pitch [deg]", "yaw": "yaw change [deg]",
+                  "depth": "depth change [m]", "x": "x change [m]", "y": "y change [m]"}
+
+
+def comparison_figure(times, measured: dict, simulated: dict, *, held: dict | None = None,
+                      scores: dict | None = None, title: str | None = None, labels=("log", "uvms")) -> Figure:
+    """Log against simulation, one panel per signal (``uvms replay``'s overlay; ``docs/logs.md``).
+
+    ``measured`` and ``simulated`` map signal names (``roll``, ``pitch``, ``yaw``, ``depth``, ``x``, ``y``;
+    :mod:`uvms.identify.experiment`) to values at ``times`` [s] in rad and m; angles are drawn in degrees.
+    ``held`` (optional) is the no-skill prediction (the start value held), drawn dashed; ``scores`` maps a
+    signal to its RMSE (shown in the panel's title)."""
+    import numpy as np
+    from matplotlib.figure import Figure
+
+    names = [s for s in _SIGNAL_LABELS if s in measured and s in simulated]
+    rows = (len(names) + 1) // 2
+    fig = Figure(figsize=(12, 3.3 * rows), layout="constrained")
+    axes = fig.subplots(rows, 2, squeeze=False).ravel()
+    for ax, name in zip(axes, names):
+        scale = np.degrees(1.0) if name in ("roll", "pitch", "yaw") else 1.0
+        ax.plot(times, scale * np.asarray(measured[name]), color="black", lw=1.4, label=labels[0])
+        ax.plot(times, scale * np.asarray(simulated[name]), color="tab:blue", lw=1.2, label=labels[1])
+        if held is not None and name in held:
+            ax.plot(times, scale * np.asarray(held[name]), color="tab:gray", lw=1.0, ls="--",
+                    label="held at start")
+        heading = name
+        if scores and name in scores:
+            unit = "deg" if name in ("roll", "pitch", "yaw") else "m"
+            heading = f"{name}: RMSE {scores[name]:.3g} {unit}"
+        _style(ax, heading, _SIGNAL_LABELS[name])
+    for ax in axes[len(names):]:
+        ax.set_visible(False)
+    if title:
+        fig.suptitle(literal(title), fontsize="large")
+    return fig
