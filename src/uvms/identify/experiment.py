@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from uvms.errors import UvmsInputError
+from uvms.logs.score import wrap
 from uvms.sim.options import Inputs
 from uvms.state import State
 
@@ -57,9 +58,7 @@ def signal_values(name: str, times, position, euler, frame: str = "ned") -> np.n
 def difference(name: str, a, b) -> np.ndarray:
     """``a - b`` of signal ``name``, wrapped to [-pi, pi) for an angle."""
     d = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
-    if name in ANGLES:
-        d = (d + np.pi) % (2.0 * np.pi) - np.pi
-    return d
+    return wrap(d) if name in ANGLES else d
 
 
 def result_signals(result, times, names, frame: str = "ned") -> dict[str, np.ndarray]:
