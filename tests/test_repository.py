@@ -100,7 +100,8 @@ FLOORS = (
     ("analysis", ("uvms.analysis",)),
     ("sim", ("uvms.sim", "uvms.logs")),
     ("presentation", ("uvms.plots", "uvms.view")),
-    ("experiments", ("uvms.reproduce", "uvms.control.compare", "uvms.sweep", "uvms.paper_figures", "uvms.identify")),
+    ("experiments", ("uvms.reproduce", "uvms.control.compare", "uvms.sweep", "uvms.paper_figures", "uvms.identify",
+                     "uvms.replays")),
     ("face", ("uvms.commands", "uvms.cli", "uvms.__main__", "uvms.gym", "uvms.interop", "uvms.precompile")),
 )
 """The floors, lowest first: a module may import its own floor and those below it, never one above. ``math``

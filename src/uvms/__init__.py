@@ -11,6 +11,7 @@ Public API (stable names)::
     rollout(model, trials, duration=, ...)     Simulator(model, state, step=, ...): reset(), step(duration)
     Dynamics(model): forward, inverse, mass_matrix (the checked owner of a model's compiled plant)
     Log.load(path): a recorded run (pose, IMU, joints, thrusters); .resample(t), .initial_state(model), .score()
+    replay(model, log) -> Replay               identify(model, experiments, parameters, held_out=...)
 
 Names are imported on first use so that ``import uvms`` (and ``uvms --help``) stays fast.
 """
@@ -42,6 +43,10 @@ _EXPORTS = {
     "load_model": "uvms.model.load",
     "State": "uvms.state",
     "Log": "uvms.logs.log",
+    "replay": "uvms.replays.run",
+    "Replay": "uvms.replays.run",
+    "identify": "uvms.identify.fit",
+    "Experiment": "uvms.identify.experiment",
     "simulate": "uvms.sim.run",
     "Inputs": "uvms.sim.options",
     "Recording": "uvms.sim.options",
@@ -63,7 +68,7 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS) + ["__version__"]
 
 
-_SUBMODULES = ("logs", "reproduce", "sweep", "control", "thrusters", "hydro", "sim", "dynamics", "model")
+_SUBMODULES = ("logs", "identify", "replays", "reproduce", "sweep", "control", "thrusters", "hydro", "sim", "dynamics", "model")
 
 
 def __getattr__(name: str) -> Any:

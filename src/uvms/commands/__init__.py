@@ -14,5 +14,6 @@ COMMANDS: tuple[str, ...] = (
     "compare",
     "sweep",
     "show", "animate",
+    "replay", "identify",
     "precompile",
 )

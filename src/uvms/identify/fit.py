@@ -118,6 +118,19 @@ class Identification:
     def names(self) -> tuple[str, ...]:
         return tuple(p.name for p in self.parameters)
 
+    def in_frame(self, target: str, source: str) -> "Identification":
+        """This identification with its values (and bounds) written in frame convention ``target``, the fit
+        having been made in ``source`` (:func:`uvms.model.parameters.frame_sign`: ``cob.y`` and ``cob.z``
+        change sign under the half turn, the diagonals do not)."""
+        from dataclasses import replace
+
+        from uvms.model.parameters import frame_sign
+
+        signs = np.array([frame_sign(p, source, target) for p in self.parameters])
+        box = tuple(b if s > 0 else Bounds(-b.upper, -b.lower) for b, s in zip(self.bounds, signs))
+        return replace(self, initial=signs * self.initial, values=signs * self.values, bounds=box,
+                       correlation=self.correlation * np.outer(signs, signs))
+
     def table(self):
         """The parameters as a pandas DataFrame: name, unit, initial, value, std, std_white, bounds, at bound."""
         import pandas as pd

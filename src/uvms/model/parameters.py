@@ -123,3 +123,14 @@ def with_parameters(model, values: Mapping[str, float], where: str = "parameters
                 raise UvmsInputError(f"{where}: the added-mass matrix of body {model.body_names[b]!r} is no longer "
                                      f"positive semi-definite (smallest eigenvalue {eig.min():.3g})")
     return model.replace(**arrays) if arrays else model
+
+
+def frame_sign(p: Parameter, source: str, target: str) -> float:
+    """The factor that maps parameter ``p`` from frame convention ``source`` to ``target`` (:mod:`uvms.frames`,
+    the half turn ``H = diag(1, -1, -1)``): ``-1`` for ``cob.y`` and ``cob.z`` between different conventions, else
+    ``1`` (a diagonal entry of ``H6 M H6`` equals that of ``M``; a mass is a scalar)."""
+    from uvms.frames import check_frame
+
+    if check_frame(source, "source frame") == check_frame(target, "target frame"):
+        return 1.0
+    return -1.0 if p.field == "cob" and p.index[0] in (1, 2) else 1.0
