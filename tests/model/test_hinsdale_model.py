@@ -135,7 +135,8 @@ def test_validate_cli(capsys):
 
 
 def test_two_seconds_at_rest_stay_at_trim(model):
-    """Released at its trim attitude with the arm held at rest (the static joint torques), the vehicle keeps its
+    """Released at its trim attitude with the arm held at rest (a computed-torque hold: the arm alone has no stable
+    rest without its servos, their PID, ``PIDCtlr.jl``), the vehicle keeps its
     attitude and the arm its pose, and rises under its small net buoyancy F as a mass with the linear drag d:
     ``z(t) = (F/d) (t - tau (1 - exp(-t/tau)))``, ``tau = m/d`` (m the inertial mass, d = 0.07 N s/m as coded)."""
     W, B, r_G, r_B = hand_statics(Q_REST)
@@ -143,13 +144,15 @@ def test_two_seconds_at_rest_stay_at_trim(model):
     start = uvms.State.from_euler(model, euler=[rest.roll_rad, rest.pitch_rad, 0.0], q=list(Q_REST))
     # z up: at rest the centre of buoyancy is straight above the centre of gravity
     np.testing.assert_allclose(start.rotation @ (r_B - r_G) / np.linalg.norm(r_B - r_G), [0.0, 0.0, 1.0], atol=1e-12)
-    _, holding = uvms.inverse_dynamics(model, start, nu_dot=np.zeros(6), qdd=np.zeros(4))
-    result = uvms.simulate(model, start, duration=2.0, step=2e-3, joint_torques=holding)
+    from uvms.control.arm import ComputedTorqueArm, JointTrajectory
+
+    hold = ComputedTorqueArm(model, JointTrajectory(times=np.array([0.0]), angles=np.array([Q_REST])))
+    result = uvms.simulate(model, start, duration=2.0, step=2e-3, joint_torques=hold)
     end = result.state(-1)
-    np.testing.assert_allclose(end.euler[:2], start.euler[:2], atol=2e-3)
-    np.testing.assert_allclose(end.q, Q_REST, atol=2e-3)
+    np.testing.assert_allclose(end.euler[:2], start.euler[:2], atol=2e-4)
+    np.testing.assert_allclose(end.q, Q_REST, atol=2e-4)
     F, d, t = B - W, D_LIN[3], 2.0
     tau = INERTIAL_MASS / d
     rise = F / d * (t - tau * (1.0 - math.exp(-t / tau)))
-    assert end.position[2] == pytest.approx(rise, rel=0.03)
-    assert np.all(np.abs(end.position[:2]) < 0.1 * rise)
+    assert end.position[2] == pytest.approx(rise, rel=2e-3)
+    assert np.all(np.abs(end.position[:2]) < 0.01 * rise)
