@@ -6,8 +6,9 @@ the same functions; ``uvms trim`` prints :func:`trim`.
 
 Statics (paper Eqs. 7-8)
     ``m = sum m_i``, ``m_f = sum m_f,i``, ``r_G = sum m_i p_Gi / m``, ``r_B = sum m_f,i p_Bi / m_f`` (body points
-    placed by :func:`uvms.forward_kinematics`, vehicle level at the origin); net vertical force
-    ``(m_f - m) |a_g|``, positive up (positively buoyant: rises).
+    placed by :func:`uvms.forward_kinematics`, vehicle level at the origin; ``m_i`` and its centre are the
+    weight's, :attr:`uvms.Model.weight_mass`: the dry mass of a model whose inertia includes added mass);
+    net vertical force ``(m_f - m) |a_g|``, positive up (positively buoyant: rises).
 
 Rest attitude
     Weight through ``r_G`` and buoyancy through ``r_B`` on one vertical line, centre of buoyancy above: in body
@@ -88,13 +89,14 @@ def joint_values(model, q) -> np.ndarray:
 
 
 def centres(model, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """World points (vehicle level at the origin) of every body's centre of mass and of buoyancy, (nb, 3) each."""
+    """World points (vehicle level at the origin) of every body's centre of mass (where its weight acts,
+    :attr:`uvms.Model.weight_center`) and of buoyancy, (nb, 3) each."""
     from uvms.dynamics.poses import forward_kinematics
     from uvms.state import State
 
     poses = forward_kinematics(model, State.from_euler(model, q=q))
     R, p = poses.rotation[:model.n_bodies], poses.position[:model.n_bodies]
-    return (p + np.einsum("bij,bj->bi", R, model.com), p + np.einsum("bij,bj->bi", R, model.cob))
+    return (p + np.einsum("bij,bj->bi", R, model.weight_center), p + np.einsum("bij,bj->bi", R, model.cob))
 
 
 @dataclass(frozen=True)
@@ -118,7 +120,7 @@ class Statics:
 
 def statics(model, q: np.ndarray) -> Statics:
     """:class:`Statics` of ``model`` with the arm at ``q`` (module docstring)."""
-    mass, fluid = np.asarray(model.mass, dtype=float), np.asarray(model.buoyancy_mass, dtype=float)
+    mass, fluid = np.asarray(model.weight_mass, dtype=float), np.asarray(model.buoyancy_mass, dtype=float)
     m, mf = float(mass.sum()), float(fluid.sum())
     p_com, p_cob = centres(model, q)
     first_mass, first_fluid = mass @ p_com, fluid @ p_cob
@@ -356,27 +358,10 @@ def _no_solution(kind: str, box: np.ndarray, max_amount: float | None, min_arm: 
 
 def with_ballast(model, ballast: Ballast):
     """A copy of ``model`` with ``ballast`` added to the vehicle (body 0): its mass at ``position_m`` (a point, no
-    rotational inertia of its own) and its displaced fluid centred there."""
-    from uvms.spatial import skew
+    rotational inertia of its own) and its displaced fluid centred there (:func:`uvms.model.loads.with_point_load`)."""
+    from uvms.model.loads import with_point_load
 
-    m0, c0 = float(model.mass[0]), np.asarray(model.com[0], dtype=float)
-    mb, p = ballast.mass_kg, np.asarray(ballast.position_m, dtype=float)
-    mass, com, inertia = np.array(model.mass), np.array(model.com), np.array(model.inertia_com)
-    fluid, cob = np.array(model.buoyancy_mass), np.array(model.cob)
-    if mb > 0:
-        c = (m0 * c0 + mb * p) / (m0 + mb)
-
-        def shift(mass_, r):          # inertia of a point mass about a point at offset r: -m [r x]^2
-            S = skew(r)
-            return -mass_ * S @ S
-
-        inertia[0] = inertia[0] + shift(m0, c0 - c) + shift(mb, p - c)
-        mass[0], com[0] = m0 + mb, c
-    fb = ballast.displaced_mass_kg
-    if fb > 0:
-        cob[0] = (fluid[0] * cob[0] + fb * p) / (fluid[0] + fb)
-        fluid[0] = fluid[0] + fb
-    return model.replace(mass=mass, com=com, inertia_com=inertia, buoyancy_mass=fluid, cob=cob)
+    return with_point_load(model, 0, ballast.position_m, mass=ballast.mass_kg, fluid_mass=ballast.displaced_mass_kg)
 
 
 # --------------------------------------------------------------------------------------------------- trim

@@ -3,7 +3,9 @@
 - kinetic energy ``T = 0.5 [nu; qd]^T M [nu; qd]`` with ``M`` from the CRBA (added mass included: the fluid's
   kinetic energy in the strip/independent-body added-mass model);
 - potential energy of gravity and buoyancy (z down): ``V = sum_i (-m_i a_g . r_G,i + m_f,i a_g . r_B,i)``
-  with world positions of the centres of mass and buoyancy (valid in still fluid: ``a_f = 0``);
+  with world positions of the centres of mass and buoyancy (valid in still fluid: ``a_f = 0``); ``m_i`` and
+  ``r_G,i`` are the weight's (``Model.weight_mass``, ``Model.weight_center``: the dry mass of a model whose
+  inertia includes added mass);
 - spatial momentum about the world origin, world axes, ``sum_i X_i^* (I_i [+ I_A,i]) v_i``: conserved with no
   gravity, drag, current or external forces (with added mass included, it is the body-plus-fluid impulse).
 """
@@ -34,7 +36,7 @@ def potential_energy(model, state) -> float:
     V = 0.0
     for i in range(model.n_bodies):
         R, p = poses.rotation[i], poses.position[i]
-        V -= model.mass[i] * g @ (p + R @ model.com[i])
+        V -= model.weight_mass[i] * g @ (p + R @ model.weight_center[i])
         V += model.buoyancy_mass[i] * g @ (p + R @ model.cob[i])
     return float(V)
 

@@ -43,8 +43,8 @@ class KernelModel(NamedTuple):
     inertia: np.ndarray         # (nb, 6, 6) rigid spatial inertia about the body origin
     inertia_h: np.ndarray       # (nb, 6, 6) hydrodynamic inertia I + I_A (Eq. 13's I^H)
     added_mass: np.ndarray      # (nb, 6, 6) I_A about the body origin (Eq. 2)
-    mass: np.ndarray            # (nb,) [kg]
-    com: np.ndarray             # (nb, 3) [m]
+    mass: np.ndarray            # (nb,) the mass that weighs [kg] (Model.weight_mass; read by the gravity force only)
+    com: np.ndarray             # (nb, 3) where it acts [m] (Model.weight_center; the inertias use Model.com)
     fluid_mass: np.ndarray      # (nb,) displaced-fluid mass m_f [kg] (Eq. 7)
     cob: np.ndarray             # (nb, 3) centre of buoyancy b [m] (Eq. 8)
     vehicle_drag_linear: np.ndarray     # (3,) 0.5 rho A_j Cd_j [kg/m] (Eq. 3)
@@ -154,8 +154,8 @@ def kernel_model_from(model) -> KernelModel:
         inertia=inertia,
         inertia_h=inertia + added_mass,
         added_mass=added_mass,
-        mass=np.array(model.mass, dtype=float),
-        com=np.array(model.com, dtype=float),
+        mass=np.array(model.weight_mass, dtype=float),
+        com=np.array(model.weight_center, dtype=float),
         fluid_mass=np.array(model.buoyancy_mass, dtype=float),
         cob=np.array(model.cob, dtype=float),
         vehicle_drag_linear=0.5 * rho * model.vehicle_drag_area * model.vehicle_drag_coefficient,

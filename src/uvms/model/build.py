@@ -12,6 +12,7 @@ import numpy as np
 from uvms.checks import check_joint_axis_inertia
 from uvms.errors import UvmsInputError
 from uvms.hydro.added_mass import cylinder_added_mass
+from uvms.model.loads import with_dry_weight, with_point_loads
 from uvms.model.model import Model
 from uvms.model.schema import ArmSpec, LinkSpec, ModelSpec, UrdfModelSpec, VehicleSpec, inertia_com
 from uvms.rotations import rotation_from_euler
@@ -112,7 +113,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
     damping = [(b.damping.matrices(), b.damping.about) if b.damping is not None else None for b in bodies]
     buoyancy = [_buoyancy(b, env.density) for b in bodies]
     shapes = [shape_objects(b.shapes) for b in bodies]
-    return Model(
+    model = Model(
         name=spec.name,
         source=source,
         body_names=("vehicle", *(link.name for link in links)),
@@ -146,6 +147,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         shape_drag=shape_drag_tables(shapes),
         shape_count=np.array([len(x) for x in shapes]),
     )
+    return with_point_loads(model, spec.point_loads, source)
 
 
 def _cylinder_rotation(axis) -> np.ndarray:
@@ -222,7 +224,12 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None, 
         thrusters=_thrusters(spec, source), source=source,
         xacro=xacro_options(spec, source, granted), balance_inertia=spec.balance_inertia,
     )
-    return model_from_urdf(urdf_path, extras)
+    model = model_from_urdf(urdf_path, extras)
+    if spec.inertia_includes_added_mass:
+        weights = [(None, vehicle.weight)] if vehicle.weight is not None else []
+        weights += [(name, link.weight) for name, link in spec.links.items() if link.weight is not None]
+        model = with_dry_weight(model, weights, source)
+    return with_point_loads(model, spec.point_loads, source)
 
 
 def xacro_options(spec: UrdfModelSpec, source: str | None, granted: frozenset = frozenset()):

@@ -110,6 +110,10 @@ class Model:
         damping_point: (nb, 3) point the damping coefficients hold about, body frame [m]: the force is
             ``-(D_l + D_q diag|nu_p|) nu_p`` with ``nu_p`` that point's velocity relative to the fluid.
         frames: named frames (:class:`Frame`); by default one per body (its own frame) and the end effector.
+        dry_mass: (nb,) the mass that weighs [kg], when it is not ``mass`` (a URDF whose inertial masses include
+            added mass, or weights without inertia of their own; ``docs/models.md``, "Point loads and dry
+            weight"), else ``None``. Read it through :attr:`weight_mass`.
+        dry_com: (nb, 3) where that weight acts, body frame [m] (with ``dry_mass``); read :attr:`weight_center`.
     """
 
     name: str
@@ -156,6 +160,8 @@ class Model:
     damping_point: Any = None
     shape_drag: Any = None
     shape_count: Any = None
+    dry_mass: Any = None
+    dry_com: Any = None
 
     def __post_init__(self) -> None:
         n = int(np.shape(self.mass)[0]) - 1
@@ -197,6 +203,11 @@ class Model:
                      "link_cylinder_origin", "damping_linear", "damping_quadratic", "damping_point", "shape_drag"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
         object.__setattr__(self, "shape_count", _frozen(np.reshape(self.shape_count, n + 1), dtype=np.int64))
+        if (self.dry_mass is None) != (self.dry_com is None):
+            raise ValueError("dry_mass and dry_com are given together or not at all")
+        if self.dry_mass is not None:
+            object.__setattr__(self, "dry_mass", _frozen(np.reshape(self.dry_mass, n + 1)))
+            object.__setattr__(self, "dry_com", _frozen(np.reshape(self.dry_com, (n + 1, 3))))
         self._check_tree(n)
         object.__setattr__(self, "vehicle_rotational_drag_side", float(self.vehicle_rotational_drag_side))
         object.__setattr__(self, "vehicle_rotational_drag_coefficient",
@@ -223,6 +234,17 @@ class Model:
         names = [f.name for f in self.frames]
         if len(set(names)) != len(names):
             raise ValueError("frame names must be unique")
+
+    @property
+    def weight_mass(self) -> np.ndarray:
+        """(nb,) the mass gravity acts on [kg]: ``dry_mass`` when given, else ``mass``. The one source of every
+        weight in uvms (the dynamics' gravity force, trim, the validate report, the potential energy)."""
+        return self.mass if self.dry_mass is None else self.dry_mass
+
+    @property
+    def weight_center(self) -> np.ndarray:
+        """(nb, 3) where each body's weight acts, body frame [m]: ``dry_com`` when given, else ``com``."""
+        return self.com if self.dry_com is None else self.dry_com
 
     @property
     def frame_names(self) -> tuple[str, ...]:
@@ -340,6 +362,8 @@ class Model:
             thrusters=self.thrusters, damping_linear=self.damping_linear[:1],
             damping_quadratic=self.damping_quadratic[:1], damping_point=self.damping_point[:1],
             shape_drag=self.shape_drag[:1], shape_count=self.shape_count[:1],
+            dry_mass=None if self.dry_mass is None else self.dry_mass[:1],
+            dry_com=None if self.dry_com is None else self.dry_com[:1],
         )
 
     # -- short summaries for the console and notebooks (not kilobytes of arrays)
@@ -364,7 +388,8 @@ class Model:
 
 _TREE_FIELDS = ("joint_names", "joint_parent", "joint_type", "joint_axis", "joint_damping", "joint_friction",
                 "joint_friction_speed", "joint_limits", "link_cylinder_rotation", "link_cylinder_origin", "ee_body",
-                "frames", "damping_linear", "damping_quadratic", "damping_point", "shape_drag", "shape_count")
+                "frames", "damping_linear", "damping_quadratic", "damping_point", "shape_drag", "shape_count",
+                "dry_mass", "dry_com")
 
 def _scale_shape_drag(table: np.ndarray, factor: float) -> np.ndarray:
     """A copy of shape drag tables with the drag coefficients (columns ``COL_COEFFICIENTS..``) scaled."""

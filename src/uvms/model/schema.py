@@ -552,6 +552,54 @@ class IdentifiedSpec(Spec):
     record: dict[str, Any] = {}
 
 
+class PointLoadSpec(Spec):
+    """A point load on a body (``docs/models.md``, "Point loads and dry weight"; :mod:`uvms.model.loads`): a
+    weight, a foam block or a sensor as a point ``mass`` [kg] and/or displaced fluid (``buoyancy`` [kg] or
+    ``volume`` [m^3]) at ``position`` [m] in the frame of the link ``body``. ``inertial: false``: the mass only
+    weighs (the body's inertia already holds it)."""
+
+    name: Name
+    body: Name                                    # a link (frame) name; "vehicle" for a DH model's vehicle
+    position: Vec3                                # [m], in that link's frame
+    mass: NonNegative | None = None               # point mass [kg]
+    buoyancy: NonNegative | None = None           # displaced-fluid mass [kg]
+    volume: NonNegative | None = None             # displaced volume [m^3] (x density)
+    inertial: Annotated[bool, Strict()] = True    # false: adds to the weight only
+
+    @model_validator(mode="after")
+    def _something(self) -> PointLoadSpec:
+        if self.buoyancy is not None and self.volume is not None:
+            raise fail("expected at most one of 'buoyancy' (kg) or 'volume' (m^3), found both")
+        if self.mass is None and self.buoyancy is None and self.volume is None:
+            raise fail("expected a 'mass', a 'buoyancy' or a 'volume', found none")
+        if not self.inertial and not self.mass:
+            raise fail("expected a 'mass' for inertial: false (a load that only weighs), found none", "inertial")
+        return self
+
+    def fluid_mass(self, density: float) -> float:
+        """Displaced-fluid mass [kg] (0 without buoyancy)."""
+        if self.volume is not None:
+            return float(density * self.volume)
+        return float(self.buoyancy or 0.0)
+
+
+def _unique_loads(loads: tuple[PointLoadSpec, ...]) -> tuple[PointLoadSpec, ...]:
+    _unique([p.name for p in loads], "point load")
+    return loads
+
+
+PointLoads = Annotated[tuple[PointLoadSpec, ...], AfterValidator(_unique_loads)]
+"""A model's point loads (DH or URDF route): names unique."""
+
+
+class WeightSpec(Spec):
+    """The dry weight of a URDF link whose inertial mass includes added mass: ``mass`` [kg] acting at ``center``
+    [m, link frame] (``inertia_includes_added_mass: true``)."""
+
+    mass: NonNegative
+    center: Vec3 = ZERO3
+
+
 class ModelSpec(Spec):
     """A whole model file: environment, vehicle, optional arm and thrusters."""
 
@@ -562,6 +610,7 @@ class ModelSpec(Spec):
     arm: ArmSpec | None = None
     thrusters: Thrusters = ()
     identified: IdentifiedSpec = IdentifiedSpec()   # parameters set after building (uvms identify)
+    point_loads: PointLoads = ()                  # point masses and buoyancies on any body (uvms.model.loads)
 
 
 # --- a URDF and its additions (docs/models.md, "URDF") ----------------------------------------------------
@@ -629,6 +678,7 @@ class UrdfLinkSpec(Spec):
     cylinder: LinkCylinderSpec | None = None
     damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping, link frame
     shapes: tuple[ShapeSpec, ...] = ()            # shapes in the link frame, or from_collision
+    weight: WeightSpec | None = None              # dry weight (with inertia_includes_added_mass: true)
 
     @model_validator(mode="after")
     def _geometry(self) -> UrdfLinkSpec:
@@ -646,6 +696,7 @@ class UrdfVehicleSpec(Spec):
     damping: FossenDampingSpec | None = None      # Fossen's linear + quadratic damping, vehicle frame
     shapes: tuple[ShapeSpec, ...] = ()            # shapes in the vehicle (root link) frame, or from_collision
     box: NonNegativeVec3 = ZERO3                  # box dimensions [m] (plots)
+    weight: WeightSpec | None = None              # dry weight (with inertia_includes_added_mass: true)
 
 
 class UrdfJointSpec(Spec):
@@ -674,3 +725,17 @@ class UrdfModelSpec(Spec):
     allow_environment: Annotated[bool, Strict()] = False  # xacro $(env VAR) / $(optenv VAR) may read
     xacro_args: dict[Name, Annotated[str, Strict()]] = {}  # xacro <xacro:arg> values ($(arg name))
     identified: IdentifiedSpec = IdentifiedSpec()   # parameters set after building (uvms identify)
+    point_loads: PointLoads = ()                  # point masses and buoyancies on any link (uvms.model.loads)
+    inertia_includes_added_mass: Annotated[bool, Strict()] = False  # the URDF's inertial masses hold added mass
+
+    @model_validator(mode="after")
+    def _dry_weight(self) -> UrdfModelSpec:
+        bodies = [("vehicle", self.vehicle)] + [(f"links.{name}", link) for name, link in self.links.items()]
+        for where, body in bodies:
+            if self.inertia_includes_added_mass and body.added_mass is not None:
+                raise fail("expected no added_mass: inertia_includes_added_mass is true (the URDF's inertias "
+                           "already include it)", f"{where}.added_mass")
+            if not self.inertia_includes_added_mass and body.weight is not None:
+                raise fail("a dry weight is read only with inertia_includes_added_mass: true (else the weight is "
+                           "the URDF's inertial mass)", f"{where}.weight")
+        return self
