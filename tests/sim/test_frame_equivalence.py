@@ -12,6 +12,8 @@ import yaml
 
 import uvms
 from uvms import frames
+
+pytestmark = pytest.mark.filterwarnings("ignore:.*crossed its position limit")
 from uvms.control.registry import make_controller
 from uvms.model.load import resolve_model_path
 from uvms.rotations import euler_from_rotation, rotation_from_euler
@@ -100,7 +102,7 @@ def enu_files(tmp_path_factory):
 @pytest.mark.parametrize("name", ["paper", "bluerov2_heavy_alpha5"])
 def test_z_up_file_loads_as_the_z_down_model_turned(name, enu_files):
     ned, enu = uvms.load_model(name), uvms.load_model(enu_files[name])
-    assert (ned.frame, enu.frame) == ("ned", "enu")
+    assert (ned.convention, enu.convention) == ("ned", "enu")
     np.testing.assert_allclose(enu.gravity, [0.0, 0.0, -9.81])
     turned = ned.in_frame("enu")                   # the in-memory conversion agrees with the hand-written file
     for field in ("com", "cob", "inertia_com", "added_mass", "gravity", "joint_rotation", "joint_position",
@@ -109,7 +111,7 @@ def test_z_up_file_loads_as_the_z_down_model_turned(name, enu_files):
     for a, b in zip(enu.thrusters, turned.thrusters, strict=True):
         np.testing.assert_allclose(a.position, b.position, atol=1e-15)
         np.testing.assert_allclose(a.direction, b.direction, atol=1e-15)
-    assert turned.in_frame("ned").frame == "ned"
+    assert turned.in_frame("ned").convention == "ned"
     np.testing.assert_array_equal(turned.in_frame("ned").joint_rotation, ned.joint_rotation)
 
 
@@ -120,7 +122,7 @@ def _start(model, q):
 
 
 @pytest.mark.parametrize("name, q, tau", [("paper", [0.0, 0.3, -0.2], [2.5, 0.3, -0.1]),
-                                          ("bluerov2_heavy_alpha5", [0.05, 0.4, 0.4, 0.05], [0.3, 0.4, -0.2, 0.01])])
+                                          ("bluerov2_heavy_alpha5", [0.05, 0.4, 0.4, 0.05], [0.02, 0.1, -0.05, 0.001])])
 def test_released_arm_moves_the_same_in_both_frames(name, q, tau, enu_files):
     """Uncontrolled: the vehicle released, joint torques applied, every thruster idle."""
     ned, enu = uvms.load_model(name), uvms.load_model(enu_files[name])

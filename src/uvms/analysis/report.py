@@ -5,7 +5,7 @@ The statics, the rest attitude and the controller-fit check are :mod:`uvms.analy
 
 :func:`model_report` computes every number of ``uvms validate`` (the command only prints
 :meth:`ModelReport.table` or :meth:`ModelReport.to_dict`). All quantities are for the system at rest, the arm
-at the joint values ``q``, vectors in the vehicle frame of the model's convention (``model.frame``: x forward,
+at the joint values ``q``, vectors in the vehicle frame of the model's convention (``model.convention``: x forward,
 y starboard, z down in ned; x forward, y port, z up in enu; ``docs/conventions.md``, "Frames") and moments about
 the vehicle-frame origin.
 
@@ -311,4 +311,4 @@ def model_report(model, q=None, *, controller=None) -> ModelReport:
         static_moment_Nm=static, righting_moment_Nm=righting, trim_roll_rad=roll, trim_pitch_rad=pitch,
         trim_note=note, thrust_forward_N=forward, thrust_reverse_N=reverse, thrust_method=THRUST_METHOD,
         n_thrusters=len(thrusters), allocation_rank=rank, missing_axes=missing, effective_inertia=inertia,
-        b_bounds=bounds, warnings=warnings, frame=model.frame)
+        b_bounds=bounds, warnings=warnings, frame=model.convention)

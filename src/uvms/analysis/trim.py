@@ -1,7 +1,7 @@
 """Trim: the attitude a vehicle-manipulator system rests at, and the ballast that levels it.
 
 All quantities are for the system at rest with the arm at joint values ``q``, vectors in the vehicle frame of
-the model's convention (``model.frame``: x forward, y starboard, z down in ned; x forward, y port, z up in enu;
+the model's convention (``model.convention``: x forward, y starboard, z down in ned; x forward, y port, z up in enu;
 ``docs/conventions.md``, "Frames"). The formulas below are written for ned; an enu model's gravity along world
 -z flips ``d`` in :func:`trim_attitude`, and :func:`level_ballast` solves in ned and maps the result back. :mod:`uvms.analysis.report` (``uvms validate``) uses
 the same functions; ``uvms trim`` prints :func:`trim`.
@@ -294,7 +294,7 @@ def level_ballast(model, s: Statics, *, kind: str = "mass", region=None, max_amo
     from scipy.optimize import linprog
 
     box = check_ballast_options(model, kind, region, max_amount, foam_density, min_arm)
-    frame = model.frame
+    frame = model.convention
     if frame != "ned":      # the conditions below are written z down: solve in ned, map the answer back
         try:
             found = level_ballast(model.in_frame("ned"), _statics_in(s, frame, "ned"), kind=kind,
@@ -539,7 +539,7 @@ def trim(model, q=None, *, ballast: str = "mass", region=None, max_amount: float
     return Trim(model_name=model.name, joint_names=tuple(model.joint_names), q=q, mass_kg=s.mass,
                 displaced_mass_kg=s.fluid_mass, net_buoyancy_N=s.net_buoyancy, center_of_mass_m=s.center_of_mass,
                 center_of_buoyancy_m=s.center_of_buoyancy, roll_rad=roll, pitch_rad=pitch, note=note, level=level,
-                ballast=found, effective_inertia=inertia, b_bounds=bounds, warnings=warnings, frame=model.frame)
+                ballast=found, effective_inertia=inertia, b_bounds=bounds, warnings=warnings, frame=model.convention)
 
 
 def trimmed_state(model, q=None, *, position=None, yaw: float = 0.0):

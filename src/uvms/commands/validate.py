@@ -44,8 +44,8 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(data, indent=2, allow_nan=False))
         return 0
     print(f"{model.name}: valid ({model.source})")
-    world = "z down" if model.frame == "ned" else "z up"
-    print(f"  frame:                {model.frame} (world {world}; vehicle {VEHICLE_AXES[model.frame]})")
+    world = "z down" if model.convention == "ned" else "z up"
+    print(f"  frame:                {model.convention} (world {world}; vehicle {VEHICLE_AXES[model.convention]})")
     print(f"  joints:               {model.n_joints}")
     if model.n_joints:
         print(f"  joint order (q):      {', '.join(model.joint_names)}")

@@ -154,7 +154,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         damping_point=np.array([d[1] if d else (0.0, 0.0, 0.0) for d in damping]).reshape(-1, 3),
         shape_drag=shape_drag_tables(shapes),
         shape_count=np.array([len(x) for x in shapes]),
-        frame=spec.frame,
+        convention=spec.frame,
     )
 
 

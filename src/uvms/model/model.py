@@ -110,7 +110,7 @@ class Model:
         damping_point: (nb, 3) point the damping coefficients hold about, body frame [m]: the force is
             ``-(D_l + D_q diag|nu_p|) nu_p`` with ``nu_p`` that point's velocity relative to the fluid.
         frames: named frames (:class:`Frame`); by default one per body (its own frame) and the end effector.
-        frame: the world/body convention every number above is written in (:mod:`uvms.frames`,
+        convention: the world/body convention every number above is written in (:mod:`uvms.frames`,
             ``docs/conventions.md``, "Frames"): ``"ned"`` (world z down, vehicle forward-right-down, the default)
             or ``"enu"`` (world z up, vehicle forward-left-up, ROS REP 103). :meth:`in_frame` rewrites a model
             in the other one.
@@ -160,7 +160,7 @@ class Model:
     damping_point: Any = None
     shape_drag: Any = None
     shape_count: Any = None
-    frame: str = "ned"
+    convention: str = "ned"
 
     def __post_init__(self) -> None:
         n = int(np.shape(self.mass)[0]) - 1
@@ -210,7 +210,7 @@ class Model:
         from uvms.checks import check_joint_axis_inertia
         from uvms.frames import check_frame
 
-        check_frame(self.frame, "model frame")
+        check_frame(self.convention, "model convention")
 
         check_joint_axis_inertia(self.mass, self.com, self.inertia_com, self.added_mass, joint_axis=self.joint_axis,
                                  joint_type=self.joint_type, source=self.source,
@@ -347,7 +347,7 @@ class Model:
             gravity=self.gravity, current=self.current, fluid_acceleration=self.fluid_acceleration,
             thrusters=self.thrusters, damping_linear=self.damping_linear[:1],
             damping_quadratic=self.damping_quadratic[:1], damping_point=self.damping_point[:1],
-            shape_drag=self.shape_drag[:1], shape_count=self.shape_count[:1], frame=self.frame,
+            shape_drag=self.shape_drag[:1], shape_count=self.shape_count[:1], convention=self.convention,
         )
 
     def in_frame(self, frame: str) -> "Model":
@@ -366,9 +366,9 @@ class Model:
         from uvms.hydro.shapes import COL_POSITION, COL_ROTATION
 
         fr.check_frame(frame)
-        if frame == self.frame:
+        if frame == self.convention:
             return self
-        src = self.frame
+        src = self.convention
 
         def body0(a: np.ndarray, convert) -> np.ndarray:
             out = np.array(a, dtype=float)
@@ -413,12 +413,12 @@ class Model:
             ee_rotation=ee_rotation, ee_position=ee_position, frames=tuple(fixed_frame(f) for f in self.frames),
             thrusters=thrusters, gravity=fr.convert_vectors(self.gravity, src, frame),
             current=fr.convert_vectors(self.current, src, frame),
-            fluid_acceleration=fr.convert_vectors(self.fluid_acceleration, src, frame), frame=frame)
+            fluid_acceleration=fr.convert_vectors(self.fluid_acceleration, src, frame), convention=frame)
 
     # -- short summaries for the console and notebooks (not kilobytes of arrays)
 
     def __repr__(self) -> str:
-        frame = "" if self.frame == "ned" else f", frame={self.frame!r}"
+        frame = "" if self.convention == "ned" else f", convention={self.convention!r}"
         return (f"Model({self.name!r}, {self.n_joints} joints, {float(self.mass.sum()):.4g} kg, "
                 f"{len(getattr(self, 'thrusters', ()))} thrusters{frame}, source={self.source!r})")
 

@@ -654,7 +654,7 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
         damping_point=np.array([b.damping[2] if b.damping else np.zeros(3) for b in bodies]).reshape(nb, 3),
         shape_drag=shape_drag_tables([b.shapes for b in bodies]),
         shape_count=np.array([len(b.shapes) for b in bodies]),
-        frame=extras.frame,
+        convention=extras.frame,
     )
 
 

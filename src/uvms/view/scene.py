@@ -205,7 +205,7 @@ def scene_from_model(model, thrusters=None) -> Scene:
                  com=np.asarray(model.com, dtype=float).reshape(nb, 3),
                  cob=np.asarray(getattr(model, "cob", model.com), dtype=float).reshape(nb, 3),
                  parent=parent, joint_axes=axes / np.linalg.norm(axes, axis=1, keepdims=True) if n else axes,
-                 thrusters=arrows, length=size, frame=str(getattr(model, "frame", "ned")))
+                 thrusters=arrows, length=size, frame=str(getattr(model, "convention", "ned")))
 
 
 def _hydrodynamic_shapes(model, names) -> list[Primitive]:
