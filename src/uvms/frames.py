@@ -102,3 +102,81 @@ def quaternion_wxyz(q_xyzw) -> np.ndarray:
     """A quaternion (or ``(..., 4)`` rows) ordered ``(x, y, z, w)`` (ROS) reordered to uvms's ``(w, x, y, z)``."""
     q = np.asarray(q_xyzw, dtype=float)
     return np.concatenate([q[..., 3:4], q[..., 0:3]], axis=-1)
+
+
+def convert_frame_rotations(R, source: str, target: str) -> np.ndarray:
+    """Rotations ``(..., 3, 3)`` from a frame fixed in the vehicle (a link mount, a shape, a sensor) to the
+    vehicle's body axes, from ``source`` to ``target``: ``H R``. The fixed frame itself is not renamed (a link's
+    frame is the model's own: DH rows or URDF joint origins); only the vehicle axes it is written in change."""
+    R = np.array(R, dtype=float)
+    if not _same(source, target):
+        R[..., 1:3, :] *= -1.0
+    return R
+
+
+def default_gravity(frame: str, g: float = 9.81) -> np.ndarray:
+    """Gravity ``g * GRAVITY_DIRECTION[frame]`` [m/s^2]: ``[0, 0, g]`` in ned, ``[0, 0, -g]`` in enu."""
+    return g * GRAVITY_DIRECTION[check_frame(frame)]
+
+
+def check_gravity(gravity, frame: str, source: str | None = None, path: str = "environment.gravity") -> np.ndarray:
+    """``gravity`` as an array if it points down in ``frame`` (a positive component along
+    ``GRAVITY_DIRECTION[frame]``) or is zero (no gravity); else a one-line :class:`~uvms.errors.UvmsInputError`.
+
+    Refused rather than warned: a gravity pointing up is a model loaded upside down (a z-down file without
+    ``frame: ned`` or a z-up one without ``frame: enu``), and every number after it would be wrong."""
+    g = np.array(gravity, dtype=float).reshape(3)
+    norm = float(np.linalg.norm(g))
+    if norm > 0.0 and not float(g @ GRAVITY_DIRECTION[check_frame(frame)]) > 0.0:
+        world = "z down" if frame == "ned" else "z up"
+        expected = ", ".join(f"{v:g}" for v in default_gravity(frame, norm))
+        raise UvmsInputError(f"expected gravity pointing down in frame {frame} (world {world}), e.g. "
+                             f"[{expected}], got [{', '.join(f'{v:g}' for v in g)}] (set 'frame: "
+                             f"{'enu' if frame == 'ned' else 'ned'}' if the file is written "
+                             f"{'z up' if frame == 'ned' else 'z down'})", source, path)
+    return g
+
+
+def convert_state(state, source: str, target: str):
+    """A :class:`uvms.state.State` (or anything with ``position``, ``quaternion``, ``nu`` and ``replace``) from
+    ``source``'s convention to ``target``'s: ``H p``, ``[w, x, -y, -z]``, ``H6 nu``; the joint angles and rates
+    and the actuator states (motor speeds, duct flows, thrusts along each thruster's own direction) are the
+    same in both."""
+    if _same(source, target):
+        return state
+    return state.replace(position=convert_vectors(state.position, source, target),
+                         quaternion=convert_quaternions(state.quaternion, source, target),
+                         nu=convert_twists(state.nu, source, target))
+
+
+VEHICLE_AXES = {"ned": "x fwd, y stbd, z down", "enu": "x fwd, y port, z up"}
+"""The vehicle's body axes in words (report and trim headers)."""
+
+WORLD_AXES = {"ned": ("x north", "y east", "z down"), "enu": ("x", "y", "z up")}
+"""The world axes' labels (3-D views, plots). The enu world of the half-turn map has x along the ned world's x,
+which need not be east: its horizontal axes are not named after compass points."""
+
+
+def convert_state(state, source: str, target: str):
+    """A :class:`uvms.state.State` (or anything with ``position``, ``quaternion``, ``nu`` and ``replace``) from
+    ``source``'s convention to ``target``'s: ``H p``, ``[w, x, -y, -z]``, ``H6 nu``; the joint angles and rates
+    and the actuator states (motor speeds, duct flows, thrusts along each thruster's own direction) are the
+    same in both."""
+    if _same(source, target):
+        return state
+    return state.replace(position=convert_vectors(state.position, source, target),
+                         quaternion=convert_quaternions(state.quaternion, source, target),
+                         nu=convert_twists(state.nu, source, target))
+
+
+VEHICLE_AXES = {"ned": "x fwd, y stbd, z down", "enu": "x fwd, y port, z up"}
+"""The vehicle's body axes in words (report and trim headers)."""
+
+WORLD_AXES = {"ned": ("x north", "y east", "z down"), "enu": ("x", "y", "z up")}
+"""The world axes' labels (3-D views, plots). The enu world of the half-turn map has x along the ned world's x,
+which need not be east: its horizontal axes are not named after compass points."""
+
+
+def depth(z, frame: str):
+    """Depth [m] (positive down) of world heights or z coordinates ``z``: ``z`` in ned, ``-z`` in enu."""
+    return z if check_frame(frame) == "ned" else -np.asarray(z)

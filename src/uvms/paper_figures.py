@@ -279,7 +279,7 @@ def case_animation(released, controlled, model, path, *, fixed=None, thrusters=N
     frames = [go.Frame(data=positions(k), traces=index, name=names[k]) for k in range(n)]
     fig = go.Figure(data=static + moving, frames=frames)
     title = "Paper Section 6: case 2 (left) and case 3 (right), the same time, the same axes"
-    layout = scene_layout(ranges, title)
+    layout = scene_layout(ranges, title, replays[0].scene)
     left, right = dict(layout["scene"]), dict(layout["scene"])
     left["domain"] = dict(x=[0.15, 0.575], y=[0.08, 0.95])               # the legend on the left of both
     right["domain"] = dict(x=[0.575, 1.0], y=[0.08, 0.95])

@@ -1,7 +1,9 @@
 """Orientation: ZYX Euler angles, rotation matrices and unit quaternions.
 
-Conventions (``docs/conventions.md``): world frame x north, y east, z down; ``R`` is the rotation from
-body to world, ``R = Rz(psi) Ry(theta) Rx(phi)`` (the paper's Eq. 1 ``T1``). Quaternions are ``[w, x, y, z]``
+Conventions (``docs/conventions.md``, "Frames"): the world and body axes are the model's convention
+(``Model.convention``: ``"ned"``, world x north, y east, z down, body forward-right-down, the default; or ``"enu"``,
+world z up, body forward-left-up, :mod:`uvms.frames`); the formulas here hold in either. ``R`` is the rotation
+from body to world, ``R = Rz(psi) Ry(theta) Rx(phi)`` (the paper's Eq. 1 ``T1``). Quaternions are ``[w, x, y, z]``
 (scalar first), unit norm, with ``R(q)`` the same body-to-world rotation. The orientation is integrated as a
 quaternion: Eq. 1's Euler-rate map ``T2`` is singular at ``theta = +/-90 deg``.
 """

@@ -201,6 +201,13 @@ class State:
         """``[nu; qd]`` (6 + n)."""
         return np.concatenate([self.nu, self.qd])
 
+    def in_frame(self, source: str, target: str) -> "State":
+        """This state (of a model written in convention ``source``) in convention ``target``
+        (:func:`uvms.frames.convert_state`: ``H p``, ``[w, x, -y, -z]``, ``H6 nu``; joints and actuators same)."""
+        from uvms.frames import convert_state
+
+        return convert_state(self, source, target)
+
     def replace(self, **changes) -> "State":
         """A new state with some fields changed."""
         unknown = sorted(set(changes) - set(_FIELDS))

@@ -48,7 +48,11 @@ def test_defaults_for_optional_sections():
     del data["environment"], data["arm"], data["thrusters"]
     spec = ModelSpec.model_validate(data)
     assert spec.arm is None and spec.thrusters == ()
-    assert spec.environment.gravity == (0.0, 0.0, 9.81) and spec.environment.current == (0.0, 0.0, 0.0)
+    # gravity not given: 9.81 m/s^2 down in the file's frame, resolved when the model is built (ned: +z)
+    assert spec.frame == "ned" and spec.environment.gravity is None and spec.environment.current == (0.0, 0.0, 0.0)
+    from uvms.model.build import gravity_of
+
+    assert np.array_equal(gravity_of(spec, None), [0.0, 0.0, 9.81])
 
 
 def test_paper_link_inertia_about_com_is_on_the_triangle_boundary():

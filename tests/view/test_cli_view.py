@@ -191,7 +191,7 @@ def test_video_title_fits_the_frame(synthetic_run, tmp_path, monkeypatch):
     assert shown.get_window_extent(renderer).width <= fig.get_figwidth() * fig.dpi
     titles = []
     real = png.style_axes
-    monkeypatch.setattr(png, "style_axes", lambda ax, ranges, t: (titles.append(t), real(ax, ranges, t))[1])
+    monkeypatch.setattr(png, "style_axes", lambda ax, ranges, t, *scene: (titles.append(t), real(ax, ranges, t, *scene))[1])
     code, _, err = run_cli(["animate", synthetic_run[0], "-o", tmp_path / "run.gif", "--fps", "1"])
     assert code == 0, err
     assert titles and all(len(t.splitlines()) >= 2 for t in titles)

@@ -5,8 +5,9 @@ The statics, the rest attitude and the controller-fit check are :mod:`uvms.analy
 
 :func:`model_report` computes every number of ``uvms validate`` (the command only prints
 :meth:`ModelReport.table` or :meth:`ModelReport.to_dict`). All quantities are for the system at rest, the arm
-at the joint values ``q``, vectors in the vehicle frame (x forward, y starboard, z down; ``docs/conventions.md``)
-and moments about the vehicle-frame origin.
+at the joint values ``q``, vectors in the vehicle frame of the model's convention (``model.convention``: x forward,
+y starboard, z down in ned; x forward, y port, z up in enu; ``docs/conventions.md``, "Frames") and moments about
+the vehicle-frame origin.
 
 Mass and buoyancy (paper Eqs. 7-8)
     ``m = sum m_i``, ``m_f = sum m_f,i``; net buoyancy ``(m_f - m) |a_g|`` [N], positive when the system rises.
@@ -21,8 +22,9 @@ Static moment
 Trim (the roll and pitch it settles to)
     The attitude at which the weight through ``r_G`` and the buoyancy through ``r_B`` act on one vertical line,
     with the centre of buoyancy above the centre of mass (the stable one of the two). In body axes this is
-    ``R^T a_g / |a_g| = d / |d|`` with ``d = r_G - r_B``; for gravity along world +z and ZYX Euler angles with
-    yaw 0, ``R^T e_z = (-sin theta, sin phi cos theta, cos phi cos theta)``, so (closed form)::
+    ``R^T a_g / |a_g| = d / |d|`` with ``d = r_G - r_B``; for gravity along world +z (ned; in enu along -z, and
+    ``d`` enters with its sign flipped) and ZYX Euler angles with yaw 0,
+    ``R^T e_z = (-sin theta, sin phi cos theta, cos phi cos theta)``, so (closed form)::
 
         phi = atan2(d_y, d_z)       theta = atan2(-d_x, sqrt(d_y^2 + d_z^2))
 
@@ -69,6 +71,7 @@ import numpy as np
 
 from uvms.analysis.trim import (AXES, CONTROLLED_AXES, INERTIA_UNITS, WRENCH_ROW, b_bounds_check,  # noqa: F401
                                 centres, effective_inertia, joint_values, rest_attitude, statics, trim_attitude)
+from uvms.frames import VEHICLE_AXES
 
 AXIS_UNITS: tuple[str, ...] = ("N", "N", "N", "N m", "N m", "N m")
 """Units of the thrust available along or about each axis of :data:`AXES`."""
@@ -132,6 +135,7 @@ class ModelReport:
     effective_inertia: np.ndarray
     b_bounds: dict[str, tuple[float, float]]
     warnings: tuple[str, ...]
+    frame: str = "ned"
 
     def table(self) -> str:
         """The report as aligned text lines (what ``uvms validate`` prints after its summary)."""
@@ -139,7 +143,7 @@ class ModelReport:
             return "(" + ", ".join(f"{x + 0.0:.6g}" for x in v) + f") {unit}"
 
         at = ", ".join(f"{n}={v:.6g}" for n, v in zip(self.joint_names, self.q)) or "no joints"
-        lines = [f"statics at rest (vehicle level, {at}; vehicle frame x fwd, y stbd, z down):",
+        lines = [f"statics at rest (vehicle level, {at}; vehicle frame {VEHICLE_AXES[self.frame]}):",
                  f"  total mass:           {self.mass_kg:.6g} kg",
                  f"  displaced fluid mass: {self.displaced_mass_kg:.6g} kg",
                  f"  net buoyancy:         {self.net_buoyancy_N:.6g} N (positive: rises)",
@@ -185,6 +189,7 @@ class ModelReport:
                                                         "pitch_rad": self.trim_pitch_rad}
         return {
             "model": self.model_name,
+            "frame": self.frame,
             "q": dict(zip(self.joint_names, (float(x) for x in self.q))),
             "gravity_m_s2": self.gravity_m_s2,
             "total_mass_kg": self.mass_kg,
@@ -306,4 +311,4 @@ def model_report(model, q=None, *, controller=None) -> ModelReport:
         static_moment_Nm=static, righting_moment_Nm=righting, trim_roll_rad=roll, trim_pitch_rad=pitch,
         trim_note=note, thrust_forward_N=forward, thrust_reverse_N=reverse, thrust_method=THRUST_METHOD,
         n_thrusters=len(thrusters), allocation_rank=rank, missing_axes=missing, effective_inertia=inertia,
-        b_bounds=bounds, warnings=warnings)
+        b_bounds=bounds, warnings=warnings, frame=model.convention)

@@ -1,7 +1,9 @@
 """Trim: the attitude a vehicle-manipulator system rests at, and the ballast that levels it.
 
-All quantities are for the system at rest with the arm at joint values ``q``, vectors in the vehicle frame
-(x forward, y starboard, z down; ``docs/conventions.md``). :mod:`uvms.analysis.report` (``uvms validate``) uses
+All quantities are for the system at rest with the arm at joint values ``q``, vectors in the vehicle frame of
+the model's convention (``model.convention``: x forward, y starboard, z down in ned; x forward, y port, z up in enu;
+``docs/conventions.md``, "Frames"). The formulas below are written for ned; an enu model's gravity along world
+-z flips ``d`` in :func:`trim_attitude`, and :func:`level_ballast` solves in ned and maps the result back. :mod:`uvms.analysis.report` (``uvms validate``) uses
 the same functions; ``uvms trim`` prints :func:`trim`.
 
 Statics (paper Eqs. 7-8)
@@ -42,13 +44,14 @@ Controller fit (paper Eqs. 27-29)
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from uvms.dynamics.axes import AXES, INERTIA_UNITS, WRENCH_ROW, effective_inertia  # noqa: F401
 from uvms.errors import UvmsInputError, show
+from uvms.frames import VEHICLE_AXES, convert_vectors
 
 CONTROLLED_AXES: tuple[str, ...] = ("surge", "sway", "yaw")
 """Axes of the sliding-mode controller (``uvms.control.smc.AXES``), in the order of its ``b_limits()``."""
@@ -293,6 +296,20 @@ def level_ballast(model, s: Statics, *, kind: str = "mass", region=None, max_amo
     from scipy.optimize import linprog
 
     box = check_ballast_options(model, kind, region, max_amount, foam_density, min_arm)
+    frame = model.convention
+    if frame != "ned":      # the conditions below are written z down: solve in ned, map the answer back
+        try:
+            found = level_ballast(model.in_frame("ned"), _statics_in(s, frame, "ned"), kind=kind,
+                                  region=_box_in(box, frame, "ned"), max_amount=max_amount,
+                                  foam_density=foam_density, min_arm=min_arm)
+        except UvmsInputError as exc:
+            if exc.path != "ballast" or s.gravity == 0.0:
+                raise
+            raise _no_solution(kind, box, max_amount, min_arm) from None
+        position = convert_vectors(found.position_m, "ned", frame)
+        position.setflags(write=False)
+        box.setflags(write=False)
+        return replace(found, position_m=position, region_m=box)
     rho = float(model.density)
     if s.gravity == 0.0:
         raise UvmsInputError("no gravity: there is no attitude to level", path="ballast")
@@ -356,6 +373,18 @@ def _no_solution(kind: str, box: np.ndarray, max_amount: float | None, min_arm: 
                           f"ballast or a larger region", path="ballast")
 
 
+def _statics_in(s: Statics, source: str, target: str) -> Statics:
+    """:class:`Statics` with its vectors in convention ``target``'s vehicle axes."""
+    return replace(s, **{name: convert_vectors(getattr(s, name), source, target) for name in
+                         ("center_of_mass", "center_of_buoyancy", "first_moment_mass", "first_moment_fluid")})
+
+
+def _box_in(box: np.ndarray, source: str, target: str) -> np.ndarray:
+    """A (2, 3) box (lower, upper corner) in convention ``target``'s vehicle axes (its corners re-sorted)."""
+    corners = convert_vectors(box, source, target)
+    return np.array([corners.min(axis=0), corners.max(axis=0)])
+
+
 def with_ballast(model, ballast: Ballast):
     """A copy of ``model`` with ``ballast`` added to the vehicle (body 0): its mass at ``position_m`` (a point, no
     rotational inertia of its own) and its displaced fluid centred there (:func:`uvms.model.loads.with_point_load`)."""
@@ -401,6 +430,7 @@ class Trim:
     effective_inertia: np.ndarray
     b_bounds: dict[str, tuple[float, float]]
     warnings: tuple[str, ...]
+    frame: str = "ned"
 
     def table(self) -> str:
         """The trim as text lines (what ``uvms trim`` prints)."""
@@ -409,7 +439,7 @@ class Trim:
 
         at = ", ".join(f"{n}={v:.6g}" for n, v in zip(self.joint_names, self.q)) or "no joints"
         sense = "rises" if self.net_buoyancy_N > 0 else "sinks" if self.net_buoyancy_N < 0 else "neutral"
-        lines = [f"{self.model_name}: trim with the arm at {at} (vehicle frame x fwd, y stbd, z down)",
+        lines = [f"{self.model_name}: trim with the arm at {at} (vehicle frame {VEHICLE_AXES[self.frame]})",
                  f"  net vertical force: {self.net_buoyancy_N:+.6g} N ({sense}; mass {self.mass_kg:.6g} kg, "
                  f"displaced {self.displaced_mass_kg:.6g} kg)",
                  f"  centre of mass:     {vec(self.center_of_mass_m)} m",
@@ -439,7 +469,8 @@ class Trim:
         def finite_or_none(v):
             return [float(x) if math.isfinite(x) else None for x in v]
 
-        return {"model": self.model_name, "q": dict(zip(self.joint_names, (float(x) for x in self.q))),
+        return {"model": self.model_name, "frame": self.frame,
+                "q": dict(zip(self.joint_names, (float(x) for x in self.q))),
                 "total_mass_kg": self.mass_kg, "displaced_mass_kg": self.displaced_mass_kg,
                 "net_buoyancy_N": self.net_buoyancy_N,
                 "center_of_mass_m": finite_or_none(self.center_of_mass_m),
@@ -493,7 +524,7 @@ def trim(model, q=None, *, ballast: str = "mass", region=None, max_amount: float
     return Trim(model_name=model.name, joint_names=tuple(model.joint_names), q=q, mass_kg=s.mass,
                 displaced_mass_kg=s.fluid_mass, net_buoyancy_N=s.net_buoyancy, center_of_mass_m=s.center_of_mass,
                 center_of_buoyancy_m=s.center_of_buoyancy, roll_rad=roll, pitch_rad=pitch, note=note, level=level,
-                ballast=found, effective_inertia=inertia, b_bounds=bounds, warnings=warnings)
+                ballast=found, effective_inertia=inertia, b_bounds=bounds, warnings=warnings, frame=model.convention)
 
 
 def trimmed_state(model, q=None, *, position=None, yaw: float = 0.0):

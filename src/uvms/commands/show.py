@@ -19,7 +19,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("model", metavar="MODEL", help="model YAML file, or a bundled model name (e.g. paper)")
     add_q_argument(parser)
     parser.add_argument("--position", metavar="M", type=float, nargs=3, default=None,
-                        help="vehicle position x y z in the world (north, east, down) [m] (default: 0 0 0)")
+                        help="vehicle position x y z in the world, in the model's frame (ned: north, east, down; enu: z up) [m] (default: 0 0 0)")
     parser.add_argument("--euler", metavar="RAD", type=float, nargs=3, default=None,
                         help="vehicle roll pitch yaw (ZYX Euler angles) [rad] (default: 0 0 0)")
     parser.add_argument("-o", "--output", metavar="FILE", default=None,

@@ -18,6 +18,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("model", metavar="FILE_OR_NAME",
                         help="model YAML file, URDF (.urdf) or xacro (.xacro) file, or a bundled model name (paper)")
     add_q_argument(parser)
+    parser.add_argument("--frame", choices=("ned", "enu"), default=None,
+                        help="convention the file is written in (default: its 'frame:' key, else ned; a bare ROS "
+                             "URDF is enu: world z up, base_link forward-left-up)")
     parser.add_argument("--json", action="store_true",
                         help="print the report as JSON (units in the key names) instead of text")
 
@@ -27,7 +30,9 @@ def run(args: argparse.Namespace) -> int:
     from uvms.analysis.report import end_effector_name, model_report
     from uvms.model import load_model
 
-    model = load_model(args.model)
+    from uvms.frames import VEHICLE_AXES
+
+    model = load_model(args.model, frame=getattr(args, "frame", None))
     report = model_report(model, q=q_option(model, args.q))
     if args.json:
         import json
@@ -39,6 +44,8 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(data, indent=2, allow_nan=False))
         return 0
     print(f"{model.name}: valid ({model.source})")
+    world = "z down" if model.convention == "ned" else "z up"
+    print(f"  frame:                {model.convention} (world {world}; vehicle {VEHICLE_AXES[model.convention]})")
     print(f"  joints:               {model.n_joints}")
     if model.n_joints:
         print(f"  joint order (q):      {', '.join(model.joint_names)}")

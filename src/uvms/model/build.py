@@ -11,6 +11,7 @@ import numpy as np
 
 from uvms.checks import check_joint_axis_inertia
 from uvms.errors import UvmsInputError
+from uvms.frames import check_gravity, default_gravity
 from uvms.hydro.added_mass import cylinder_added_mass
 from uvms.model.loads import with_dry_weight, with_point_loads
 from uvms.model.model import Model
@@ -70,6 +71,14 @@ def shape_objects(specs) -> list:
         elif isinstance(s, EllipsoidShapeSpec):
             out.append(hs.Ellipsoid(tuple(s.semi_axes), s.drag_coefficient, s.axial_drag_coefficient, **pose))
     return out
+
+
+def gravity_of(spec: ModelSpec | UrdfModelSpec, source: str | None) -> np.ndarray:
+    """The model file's gravity [m/s^2]: ``environment.gravity`` if given (refused when it points up in the
+    file's ``frame``, :func:`uvms.frames.check_gravity`), else 9.81 m/s^2 down in that frame."""
+    if spec.environment.gravity is None:
+        return default_gravity(spec.frame)
+    return check_gravity(spec.environment.gravity, spec.frame, source, "environment.gravity")
 
 
 def _thrusters(spec: ModelSpec | UrdfModelSpec, source: str | None) -> tuple:
@@ -137,7 +146,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         ee_rotation=ee_rotation,
         ee_position=ee_position,
         density=env.density,
-        gravity=np.array(env.gravity),
+        gravity=gravity_of(spec, source),
         current=np.array(env.current),
         fluid_acceleration=np.array(env.fluid_acceleration),
         thrusters=_thrusters(spec, source),
@@ -146,6 +155,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         damping_point=np.array([d[1] if d else (0.0, 0.0, 0.0) for d in damping]).reshape(-1, 3),
         shape_drag=shape_drag_tables(shapes),
         shape_count=np.array([len(x) for x in shapes]),
+        convention=spec.frame,
     )
     return with_point_loads(model, spec.point_loads, source)
 
@@ -212,7 +222,7 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None, 
     _explicit_hydro_into(vehicle_hydro, vehicle, rho, added_mass=True)
     drag = vehicle.drag
     extras = VehicleExtras(
-        name=spec.name, density=rho, gravity=env.gravity, current=env.current,
+        name=spec.name, density=rho, gravity=tuple(gravity_of(spec, source)), current=env.current, frame=spec.frame,
         fluid_acceleration=env.fluid_acceleration,
         vehicle_drag_area=drag.area if drag else (0.0, 0.0, 0.0),
         vehicle_drag_coefficient=drag.coefficient if drag else (0.0, 0.0, 0.0),

@@ -65,7 +65,8 @@ def load_model_spec(name_or_path: str | os.PathLike[str]) -> tuple[ModelSpec | U
 
 def load_model(name_or_path: str | os.PathLike[str], *, balance_inertia: bool | None = None,
                package_paths: dict[str, str | os.PathLike[str]] | None = None,
-               allow_environment: bool | None = None, xacro_args: dict[str, str] | None = None) -> Model:
+               allow_environment: bool | None = None, xacro_args: dict[str, str] | None = None,
+               frame: str | None = None) -> Model:
     """Load a model: a bundled name (``"paper"``, see :func:`bundled_models`), a model YAML file, or a robot
     description (``.urdf``, ``.xacro``) whose root link is the vehicle (``docs/models.md``).
 
@@ -73,21 +74,28 @@ def load_model(name_or_path: str | os.PathLike[str], *, balance_inertia: bool | 
     ``balance_inertia`` accepts link inertias breaking the triangle inequality with their principal moments set
     to their mean (MuJoCo's ``balanceinertia``; one warning line names the links); ``package_paths``
     (``{package: folder}``), ``allow_environment`` and ``xacro_args`` say what a xacro may read beyond its own
-    folder (``docs/models.md``, "What a xacro may do").
+    folder (``docs/models.md``, "What a xacro may do"). ``frame`` (``"ned"`` or ``"enu"``, for any model file)
+    says which convention the file's numbers are written in (``docs/conventions.md``, "Frames"): a bare ROS URDF
+    is ``frame="enu"`` (world z up, base_link forward-left-up); default: the file's ``frame:`` key, else ned.
 
     Raises:
         UvmsInputError: missing file, YAML or XML syntax error or invalid content (one-line message).
     """
-    from uvms.model.urdf import is_robot_description, model_from_urdf
+    from uvms.frames import check_frame, default_gravity
+    from uvms.model.urdf import VehicleExtras, is_robot_description, model_from_urdf
     from uvms.model.xacro import XacroOptions
 
+    if frame is not None:
+        check_frame(frame, "load_model(frame=...)")
     options = {key: value for key, value in (("balance_inertia", balance_inertia), ("package_paths", package_paths),
-               ("allow_environment", allow_environment), ("xacro_args", xacro_args)) if value is not None}
+               ("allow_environment", allow_environment), ("xacro_args", xacro_args), ("frame", frame))
+               if value is not None}
     if is_robot_description(name_or_path) and Path(name_or_path).exists():
         xacro = XacroOptions(package_paths=dict(options.get("package_paths", {})),
                              allow_environment=bool(options.get("allow_environment", False)),
                              args=dict(options.get("xacro_args", {})))
-        return model_from_urdf(name_or_path, xacro=xacro, balance_inertia=bool(balance_inertia))
+        extras = VehicleExtras(frame=frame or "ned", gravity=tuple(default_gravity(frame or "ned")))
+        return model_from_urdf(name_or_path, extras, xacro=xacro, balance_inertia=bool(balance_inertia))
     key = (_file_key(resolve_model_path(name_or_path)), repr(sorted(options.items())))
     hit = _LOADED.get(key)
     if hit is not None and all(_file_key(path) == stat for path, stat in hit[1]):
@@ -157,6 +165,8 @@ def _built(spec, source, options: dict | None) -> tuple[Model, tuple]:
             if not urdf.exists():
                 raise UvmsInputError(f"no such file: {urdf}", source, "urdf")
             return build_urdf_model(spec, urdf, source, frozenset(options or ())), (urdf,)
+        if options and "frame" in options:
+            spec = spec.model_copy(update={"frame": options["frame"]})
         return build_model(spec, source), ()
     except UvmsInputError as exc:   # checks made while building (thruster parameters...) name the file too
         if exc.source is not None:

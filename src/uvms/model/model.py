@@ -83,7 +83,7 @@ class Model:
         ee_rotation: (3, 3) end-effector frame orientation in the frame of body ``ee_body``.
         ee_position: (3,) end-effector origin in the frame of body ``ee_body`` [m].
         density: fluid density ``rho`` [kg/m^3].
-        gravity: (3,) gravitational acceleration in the world frame (z down) [m/s^2].
+        gravity: (3,) gravitational acceleration in the world frame [m/s^2] (down: +z in ned, -z in enu).
         current: (3,) default constant current velocity in the world frame [m/s].
         fluid_acceleration: (3,) default fluid acceleration in the world frame [m/s^2].
         thrusters: thruster layout (tuple of thruster descriptions; empty for ideal actuation).
@@ -114,6 +114,10 @@ class Model:
             added mass, or weights without inertia of their own; ``docs/models.md``, "Point loads and dry
             weight"), else ``None``. Read it through :attr:`weight_mass`.
         dry_com: (nb, 3) where that weight acts, body frame [m] (with ``dry_mass``); read :attr:`weight_center`.
+        convention: the world/body convention every number above is written in (:mod:`uvms.frames`,
+            ``docs/conventions.md``, "Frames"): ``"ned"`` (world z down, vehicle forward-right-down, the default)
+            or ``"enu"`` (world z up, vehicle forward-left-up, ROS REP 103). :meth:`in_frame` rewrites a model
+            in the other one.
     """
 
     name: str
@@ -162,6 +166,7 @@ class Model:
     shape_count: Any = None
     dry_mass: Any = None
     dry_com: Any = None
+    convention: str = "ned"
 
     def __post_init__(self) -> None:
         n = int(np.shape(self.mass)[0]) - 1
@@ -214,6 +219,9 @@ class Model:
                            float(self.vehicle_rotational_drag_coefficient))
         object.__setattr__(self, "density", float(self.density))
         from uvms.checks import check_joint_axis_inertia
+        from uvms.frames import check_frame
+
+        check_frame(self.convention, "model convention")
 
         check_joint_axis_inertia(self.mass, self.com, self.inertia_com, self.added_mass, joint_axis=self.joint_axis,
                                  joint_type=self.joint_type, source=self.source,
@@ -364,13 +372,81 @@ class Model:
             shape_drag=self.shape_drag[:1], shape_count=self.shape_count[:1],
             dry_mass=None if self.dry_mass is None else self.dry_mass[:1],
             dry_com=None if self.dry_com is None else self.dry_com[:1],
+            convention=self.convention,
         )
+
+    def in_frame(self, frame: str) -> "Model":
+        """The same robot written in convention ``frame`` (``"ned"`` or ``"enu"``; itself if already so).
+
+        The half turn about x (:mod:`uvms.frames`) is applied to the world and to the vehicle's body axes: world
+        vectors (gravity, current, fluid acceleration) and everything given in the vehicle frame (centres of
+        mass and buoyancy, inertia, added mass, damping and its point, shapes, thrusters, the poses of the
+        joints, links and named frames fixed in the vehicle) change; each link's own frame is the model's
+        (DH rows, URDF joint origins) and stays, so a link's numbers, ``q`` and ``qd`` are unchanged. Motion
+        maps with :func:`uvms.frames.convert_state`.
+        """
+        from dataclasses import replace as replace_dataclass
+
+        from uvms import frames as fr
+        from uvms.hydro.shapes import COL_POSITION, COL_ROTATION
+
+        fr.check_frame(frame)
+        if frame == self.convention:
+            return self
+        src = self.convention
+
+        def body0(a: np.ndarray, convert) -> np.ndarray:
+            out = np.array(a, dtype=float)
+            out[0] = convert(out[0], src, frame)
+            return out
+
+        on_vehicle = np.flatnonzero(self.joint_parent == 0)
+        joint_rotation, joint_position = np.array(self.joint_rotation), np.array(self.joint_position)
+        joint_rotation[on_vehicle] = fr.convert_frame_rotations(joint_rotation[on_vehicle], src, frame)
+        joint_position[on_vehicle] = fr.convert_vectors(joint_position[on_vehicle], src, frame)
+        shape_drag = np.array(self.shape_drag)
+        k = int(self.shape_count[0])
+        rotations = shape_drag[0, :k, COL_ROTATION:COL_ROTATION + 9].reshape(k, 3, 3)
+        shape_drag[0, :k, COL_ROTATION:COL_ROTATION + 9] = fr.convert_frame_rotations(rotations, src,
+                                                                                       frame).reshape(k, 9)
+        shape_drag[0, :k, COL_POSITION:COL_POSITION + 3] = fr.convert_vectors(
+            shape_drag[0, :k, COL_POSITION:COL_POSITION + 3], src, frame)
+
+        def fixed_frame(f: Frame) -> Frame:
+            if f.body != 0 or f.name == self.body_names[0]:
+                return f            # a link's frame, or the vehicle's own (which is the new convention's axes)
+            return Frame(f.name, 0, fr.convert_frame_rotations(f.rotation, src, frame),
+                         fr.convert_vectors(f.position, src, frame))
+
+        ee_rotation, ee_position = self.ee_rotation, self.ee_position
+        if self.ee_body == 0:
+            ee_rotation = fr.convert_frame_rotations(ee_rotation, src, frame)
+            ee_position = fr.convert_vectors(ee_position, src, frame)
+        thrusters = tuple(replace_dataclass(t, position=tuple(fr.convert_vectors(t.position, src, frame)),
+                                            direction=tuple(fr.convert_vectors(t.direction, src, frame)))
+                          for t in self.thrusters)
+        H = fr.HALF_TURN
+        inertia = np.array(self.inertia_com)
+        inertia[0] = H @ inertia[0] @ H
+        return self.replace(
+            com=body0(self.com, fr.convert_vectors), cob=body0(self.cob, fr.convert_vectors), inertia_com=inertia,
+            added_mass=body0(self.added_mass, fr.convert_spatial_matrix),
+            damping_linear=body0(self.damping_linear, fr.convert_spatial_matrix),
+            damping_quadratic=body0(self.damping_quadratic, fr.convert_spatial_matrix),
+            damping_point=body0(self.damping_point, fr.convert_vectors),
+            joint_rotation=joint_rotation, joint_position=joint_position, shape_drag=shape_drag,
+            ee_rotation=ee_rotation, ee_position=ee_position, frames=tuple(fixed_frame(f) for f in self.frames),
+            thrusters=thrusters, gravity=fr.convert_vectors(self.gravity, src, frame),
+            current=fr.convert_vectors(self.current, src, frame),
+            fluid_acceleration=fr.convert_vectors(self.fluid_acceleration, src, frame), convention=frame,
+            dry_com=None if self.dry_com is None else body0(self.dry_com, fr.convert_vectors))
 
     # -- short summaries for the console and notebooks (not kilobytes of arrays)
 
     def __repr__(self) -> str:
+        frame = "" if self.convention == "ned" else f", convention={self.convention!r}"
         return (f"Model({self.name!r}, {self.n_joints} joints, {float(self.mass.sum()):.4g} kg, "
-                f"{len(getattr(self, 'thrusters', ()))} thrusters, source={self.source!r})")
+                f"{len(getattr(self, 'thrusters', ()))} thrusters{frame}, source={self.source!r})")
 
     def _repr_html_(self) -> str:
         import html

@@ -50,11 +50,15 @@ on the triangle-inequality boundary: diag(0, 0.0016, 0.0016) about the CoM)."""
 
 
 
+FrameName = Literal["ned", "enu"]
+"""A model's ``frame:`` key, :data:`uvms.frames.FRAMES` (ned: world z down, body FRD; enu: z up, FLU)."""
+
+
 class EnvironmentSpec(Spec):
-    """Fluid and gravity (paper appendix, "Environmental Parameters"); world frame, z down."""
+    """Fluid and gravity (paper appendix, "Environmental Parameters"); world frame of the model's ``frame``."""
 
     density: Positive = 1000.0                    # rho [kg/m^3]
-    gravity: Vec3 = (0.0, 0.0, 9.81)              # a_g [m/s^2]
+    gravity: Vec3 | None = None                   # a_g [m/s^2]; default 9.81 down (frames.default_gravity)
     current: Vec3 = ZERO3                         # constant default current velocity [m/s]
     fluid_acceleration: Vec3 = ZERO3              # a_f [m/s^2] (Eq. 7)
 
@@ -605,6 +609,7 @@ class ModelSpec(Spec):
 
     name: Name
     description: str | None = None
+    frame: FrameName = "ned"                      # world/body convention (docs/conventions.md, "Frames")
     environment: EnvironmentSpec = EnvironmentSpec()
     vehicle: VehicleSpec
     arm: ArmSpec | None = None
@@ -713,6 +718,7 @@ class UrdfModelSpec(Spec):
     urdf: Name                                    # path, relative to this file
     name: Name | None = None                      # default: the URDF's robot name
     description: str | None = None
+    frame: FrameName = "ned"                      # world/body convention of the URDF and of this file
     environment: EnvironmentSpec = EnvironmentSpec()
     vehicle: UrdfVehicleSpec = UrdfVehicleSpec()
     links: dict[Name, UrdfLinkSpec] = {}

@@ -232,8 +232,11 @@ class VehicleExtras:
     """What the YAML additions give beyond the URDF (all optional; zero hydrodynamics by default)."""
 
     name: str | None = None
+    frame: str = "ned"
+    """The convention the URDF and the additions are written in (``ned`` or ``enu``, :mod:`uvms.frames`)."""
     density: float = 1000.0
     gravity: tuple = (0.0, 0.0, 9.81)
+    """World gravity [m/s^2], in ``frame``'s world axes."""
     current: tuple = (0.0, 0.0, 0.0)
     fluid_acceleration: tuple = (0.0, 0.0, 0.0)
     vehicle_drag_area: tuple = (0.0, 0.0, 0.0)
@@ -651,6 +654,7 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
         damping_point=np.array([b.damping[2] if b.damping else np.zeros(3) for b in bodies]).reshape(nb, 3),
         shape_drag=shape_drag_tables([b.shapes for b in bodies]),
         shape_count=np.array([len(b.shapes) for b in bodies]),
+        convention=extras.frame,
     )
 
 

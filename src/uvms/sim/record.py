@@ -126,7 +126,7 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
     ee = np.zeros((n_out, 3))
     end_effector_path(kernel_model(plan.model), np.ascontiguousarray(out_x), ee)
     meta = {"integrator": plan.integrator.name, "step_s": timing.h, "duration_s": timing.duration,
-            "fixed_base": plan.fixed_base,
+            "fixed_base": plan.fixed_base, "frame": plan.model.convention,
             "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name,
             "joint_names": list(plan.model.joint_names), "joint_types": list(plan.model.joint_type), **versions(),
             **actuation_metadata(plan), **set_point_metadata(plan), **(plan.recording.metadata or {})}

@@ -226,7 +226,7 @@ def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -
                     png.draw_target(ax, rp.scene, rp.target)
                     png.draw_trails(ax, rp.vehicle_path[: k + 1], rp.ee_path[: k + 1])
                     png.draw_snapshot(ax, rp.scene, snap)
-                    png.style_axes(ax, ranges, f"{title}\nt = {rp.times[k]:.2f} s")
+                    png.style_axes(ax, ranges, f"{title}\nt = {rp.times[k]:.2f} s", rp.scene)
                     writer.grab_frame()
             publish(tmp, path)
         except BaseException:

@@ -3,10 +3,11 @@
 The page is one self-contained HTML file (plotly.js embedded, ``include_plotlyjs=True``): it opens offline,
 from disk, with no server; in Jupyter the same :class:`plotly.graph_objects.Figure` displays inline.
 
-The world is x north, y east, z down. Both the y and the z axis are drawn reversed (z grows downwards on the
-screen, y to the left when seen from the default camera): reversing two axes is a rotation by 180 degrees
-about x, so the picture is the true, unmirrored NED world (reversing z alone would mirror it: port would be
-drawn on the starboard side).
+The world is the model's convention (:attr:`Scene.frame`). In ned (x north, y east, z down) both the y and the
+z axis are drawn reversed (z grows downwards on the screen, y to the left when seen from the default camera):
+reversing two axes is a rotation by 180 degrees about x, so the picture is the true, unmirrored NED world
+(reversing z alone would mirror it: port would be drawn on the starboard side). In enu (z up) no axis is
+reversed. Either way the world's up direction (:attr:`Scene.up`) points up on the screen.
 
 An animation page reads ``#frame=K`` (or ``#t=SECONDS``) from its address and starts at that frame, so a
 link can point at a moment of a run.
@@ -29,6 +30,7 @@ COB_COLOR = "#17becf"
 VEHICLE_TRAIL_COLOR = "#b8860b"
 EE_TRAIL_COLOR = "#e377c2"
 WORLD_LABELS = ("x north", "y east", "z down")
+"""The ned world's axis labels (a scene's own are :attr:`Scene.world_labels`)."""
 
 
 def _segments(starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -141,25 +143,30 @@ def world_traces(scene: Scene, length: float | None = None) -> list:
     import plotly.graph_objects as go
 
     L = scene.world_axis_length if length is None else length
-    traces = [_lines(np.zeros((1, 3)), L * np.eye(3)[a][None, :], name=f"world {WORLD_LABELS[a]}",
+    labels = scene.world_labels
+    traces = [_lines(np.zeros((1, 3)), L * np.eye(3)[a][None, :], name=f"world {labels[a]}",
                      color=AXIS_COLORS[a], width=3, dash="dot", showlegend=False) for a in range(3)]
     tips = 1.12 * L * np.eye(3)
-    traces.append(go.Scatter3d(x=tips[:, 0], y=tips[:, 1], z=tips[:, 2], mode="text", text=list(WORLD_LABELS),
+    traces.append(go.Scatter3d(x=tips[:, 0], y=tips[:, 1], z=tips[:, 2], mode="text", text=list(labels),
                                name="world axes", showlegend=False, hoverinfo="skip",
                                textfont=dict(color=list(AXIS_COLORS), size=12)))
     return traces
 
 
-def scene_layout(ranges: np.ndarray, title: str) -> dict:
-    """Layout of a 3-D scene: equal scales, y and z reversed (NED seen the right way up, unmirrored)."""
-    def axis(k: int, reverse: bool) -> dict:
+def scene_layout(ranges: np.ndarray, title: str, scene: Scene | None = None) -> dict:
+    """Layout of a 3-D scene: equal scales, the axes of :attr:`Scene.reversed_axes` reversed (the world's up
+    drawn up, unmirrored: y and z in ned), labelled with :attr:`Scene.world_labels` (ned without a scene)."""
+    labels = WORLD_LABELS if scene is None else scene.world_labels
+    reverse = (False, True, True) if scene is None else scene.reversed_axes
+
+    def axis(k: int) -> dict:
         lo, hi = (float(v) for v in ranges[k])
-        return dict(title=dict(text=f"{WORLD_LABELS[k]} [m]"), range=[hi, lo] if reverse else [lo, hi],
+        return dict(title=dict(text=f"{labels[k]} [m]"), range=[hi, lo] if reverse[k] else [lo, hi],
                     autorange=False, backgroundcolor="#f4f6f8", gridcolor="#d5dbe1", zerolinecolor="#9aa5b1")
 
     return dict(
         title=dict(text=title, x=0.02, font=dict(size=14)),
-        scene=dict(xaxis=axis(0, False), yaxis=axis(1, True), zaxis=axis(2, True), aspectmode="cube",
+        scene=dict(xaxis=axis(0), yaxis=axis(1), zaxis=axis(2), aspectmode="cube",
                    camera=dict(eye=dict(x=1.35, y=1.35, z=0.85), up=dict(x=0, y=0, z=1))),
         legend=dict(x=0.0, y=0.0, xanchor="left", yanchor="bottom", bgcolor="rgba(255,255,255,0.7)",
                     font=dict(size=11)),
@@ -175,7 +182,7 @@ def pose_figure(scene: Scene, snap: Snapshot, *, title: str):
     world = world_traces(scene)
     points = np.vstack([snap.points(), 1.15 * scene.world_axis_length * np.eye(3)])
     fig = go.Figure(data=world + moving_traces(scene, snap))
-    fig.update_layout(**scene_layout(equal_ranges(points), title))
+    fig.update_layout(**scene_layout(equal_ranges(points), title, scene))
     return fig
 
 
@@ -243,7 +250,7 @@ def animation_figure(replay, *, start: int = 0):
     frames = [go.Frame(data=positions(k), traces=moving_index, name=names[k]) for k in range(len(snaps))]
     points = np.vstack([s.points() for s in snaps] + [1.15 * scene.world_axis_length * np.eye(3)])
     fig = go.Figure(data=static + first, frames=frames)
-    layout = scene_layout(equal_ranges(points), title)
+    layout = scene_layout(equal_ranges(points), title, scene)
     add_player(layout, fps=fps, times=times, names=names, start=start, decimals=decimals)
     layout["legend"].update(y=0.12)
     layout["margin"] = dict(l=0, r=0, t=40, b=70)

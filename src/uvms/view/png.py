@@ -1,8 +1,9 @@
 """Static 3-D pictures with matplotlib (PNG, PDF, SVG for papers) and the frames of videos (mp4, gif).
 
 Draws the same :class:`~uvms.view.scene.Snapshot` as :mod:`uvms.view.plotly_html`, with the same colours and
-the same orientation: x north, y east, z down, the y and z axes reversed (z downwards on the page, and the
-picture unmirrored), equal scales on the three axes.
+the same orientation (the world's up drawn up: in ned, x north, y east, z down, the y and z axes reversed, z
+downwards on the page and the picture unmirrored; in enu, z up, no axis reversed), equal scales on the three
+axes.
 """
 
 from __future__ import annotations
@@ -28,15 +29,17 @@ def new_figure(size=(8.0, 7.0)):
     return fig, ax
 
 
-def style_axes(ax, ranges: np.ndarray, title: str) -> None:
-    """Equal scales, y and z reversed (NED seen unmirrored, down is down), labelled axes."""
-    ax.set_xlim(ranges[0, 0], ranges[0, 1])
-    ax.set_ylim(ranges[1, 1], ranges[1, 0])
-    ax.set_zlim(ranges[2, 1], ranges[2, 0])
+def style_axes(ax, ranges: np.ndarray, title: str, scene: Scene | None = None) -> None:
+    """Equal scales, the axes of :attr:`Scene.reversed_axes` reversed (y and z in ned: seen unmirrored, down is
+    down; none in enu), labelled axes (ned without a scene)."""
+    labels = WORLD_LABELS if scene is None else scene.world_labels
+    reverse = (False, True, True) if scene is None else scene.reversed_axes
+    for k, set_lim in enumerate((ax.set_xlim, ax.set_ylim, ax.set_zlim)):
+        set_lim(*((ranges[k, 1], ranges[k, 0]) if reverse[k] else (ranges[k, 0], ranges[k, 1])))
     ax.set_box_aspect((1, 1, 1))
-    ax.set_xlabel(f"{WORLD_LABELS[0]} [m]")
-    ax.set_ylabel(f"{WORLD_LABELS[1]} [m]")
-    ax.set_zlabel(f"{WORLD_LABELS[2]} [m]")
+    ax.set_xlabel(f"{labels[0]} [m]")
+    ax.set_ylabel(f"{labels[1]} [m]")
+    ax.set_zlabel(f"{labels[2]} [m]")
     ax.view_init(elev=ELEVATION, azim=AZIMUTH)
     ax.set_title(title, fontsize="medium")
 
@@ -59,7 +62,7 @@ def draw_world(ax, scene: Scene) -> None:
     for a in range(3):
         tip = L * np.eye(3)[a]
         ax.plot([0, tip[0]], [0, tip[1]], [0, tip[2]], color=AXIS_COLORS[a], lw=1.2, ls=":")
-        ax.text(*(1.12 * tip), WORLD_LABELS[a], color=AXIS_COLORS[a], fontsize=9)
+        ax.text(*(1.12 * tip), scene.world_labels[a], color=AXIS_COLORS[a], fontsize=9)
 
 
 def draw_snapshot(ax, scene: Scene, snap: Snapshot, *, labels: bool = True) -> None:
@@ -114,6 +117,6 @@ def pose_figure(scene: Scene, snap: Snapshot, ranges: np.ndarray, *, title: str)
     fig, ax = new_figure()
     draw_world(ax, scene)
     draw_snapshot(ax, scene, snap)
-    style_axes(ax, ranges, title)
+    style_axes(ax, ranges, title, scene)
     legend(ax, scene)
     return fig

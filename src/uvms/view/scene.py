@@ -7,7 +7,8 @@ and the thrusters. :func:`pose_scene` places it at one pose of the system (the b
 :func:`uvms.forward_kinematics`) and returns a :class:`Snapshot`: triangle meshes, frame triads, points and
 arrows in world coordinates, which :mod:`uvms.view.plotly_html` and :mod:`uvms.view.png` draw.
 
-Frames (``docs/conventions.md``): the world is x north, y east, z down; body 0 is the vehicle (its frame at the
+Frames (``docs/conventions.md``, "Frames"): the world is the model's convention (``Scene.frame``): x north,
+y east, z down (ned) or z up (enu), with :attr:`Scene.up` the world's up direction; body 0 is the vehicle (its frame at the
 reference point of the model file), body i the i-th link (modified-DH frame i, the joint axis is its z axis);
 the end-effector frame follows the last link. Shapes follow the URDF conventions: a box and a sphere are centred
 on their pose, a cylinder's axis is its local z axis through its centre.
@@ -96,6 +97,7 @@ class Scene:
         joint_axes: (n, 3) unit axis of joint i in the frame of body i.
         thrusters: thruster arrows (vehicle frame).
         length: a characteristic size of the system [m]: sets the lengths of triads and arrows.
+        frame: the model's convention, ``"ned"`` or ``"enu"`` (:mod:`uvms.frames`).
     """
 
     name: str
@@ -107,6 +109,27 @@ class Scene:
     joint_axes: np.ndarray
     thrusters: tuple[ThrusterArrow, ...]
     length: float
+    frame: str = "ned"
+
+    @property
+    def up(self) -> np.ndarray:
+        """(3,) the world's up direction in world coordinates (:data:`uvms.frames.UP`): drawn upwards."""
+        from uvms.frames import UP
+
+        return UP[self.frame].copy()
+
+    @property
+    def world_labels(self) -> tuple[str, str, str]:
+        """Labels of the world x, y, z axes (:data:`uvms.frames.WORLD_AXES`)."""
+        from uvms.frames import WORLD_AXES
+
+        return WORLD_AXES[self.frame]
+
+    @property
+    def reversed_axes(self) -> tuple[bool, bool, bool]:
+        """Which world axes a view draws reversed so that :attr:`up` points up on the screen, unmirrored: y and
+        z in ned (a half turn about x, not a mirror), none in enu."""
+        return (False, True, True) if self.frame == "ned" else (False, False, False)
 
     @property
     def n_bodies(self) -> int:
@@ -182,7 +205,7 @@ def scene_from_model(model, thrusters=None) -> Scene:
                  com=np.asarray(model.com, dtype=float).reshape(nb, 3),
                  cob=np.asarray(getattr(model, "cob", model.com), dtype=float).reshape(nb, 3),
                  parent=parent, joint_axes=axes / np.linalg.norm(axes, axis=1, keepdims=True) if n else axes,
-                 thrusters=arrows, length=size)
+                 thrusters=arrows, length=size, frame=str(getattr(model, "convention", "ned")))
 
 
 def _hydrodynamic_shapes(model, names) -> list[Primitive]:

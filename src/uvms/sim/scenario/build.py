@@ -182,8 +182,10 @@ def apply_overrides(model: Model, overrides: ModelOverrides) -> Model:
     changes: dict[str, Any] = {}
     if env.current is not None:
         changes["current"] = np.array(env.current)
-    if env.gravity is not None:
-        changes["gravity"] = np.array(env.gravity)
+    if env.gravity is not None:         # in the model's frame; refused when it points up there
+        from uvms.frames import check_gravity
+
+        changes["gravity"] = check_gravity(env.gravity, model.convention, path="model_overrides.environment.gravity")
     if env.density is not None:
         ratio = env.density / model.density
         changes.update(density=env.density, added_mass=model.added_mass * ratio,

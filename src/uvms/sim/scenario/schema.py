@@ -58,7 +58,7 @@ class EnvironmentOverrides(Spec):
 
     current: Vec3 | None = None                   # constant current velocity, world frame [m/s]
     density: Positive | None = None               # rho [kg/m^3]; added and displaced mass scale with it
-    gravity: Vec3 | None = None                   # a_g, world frame (z down) [m/s^2]
+    gravity: Vec3 | None = None                   # a_g, world frame of the model's `frame` [m/s^2]
 
 
 class ModelOverrides(Spec):
