@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     from uvms.model.parameters import parameter
     from uvms.output import check_file_output, default_file_name
     from uvms.replays import plan
-    from uvms.replays.run import in_log_frame, model_frame
+    from uvms.replays.run import in_log_frame
 
     model = load_model(args.model)
     fit_names = [p for p in (s.strip() for s in args.fit.split(",")) if p]
@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
     with _Progress(args.max_evaluations) as progress:
         result = identify(simulated, experiments, fit_names, held_out=held_out, signals=signals,
                           max_evaluations=args.max_evaluations, threads=args.threads, progress=progress)
-    write_fitted_model(result.in_frame(model_frame(model), logs[0].frame), model.source, output,
+    write_fitted_model(result.in_frame(model.convention, logs[0].frame), model.source, output,
                        logs=[str(p) for p in fitted_paths + held_paths], named=args.output is not None,
                        force=args.force)
     _print(result, output)

@@ -15,8 +15,8 @@
   joint's rate column when described, else the same local fit of its angles. Model joints the log does not
   describe start at 0 rad and 0 rad/s.
 
-Everything is computed in the log's frame and converted at the end to ``frame`` (default: the model's ``frame``
-attribute if it has one, else ``"ned"``) with :mod:`uvms.frames`.
+Everything is computed in the log's frame and converted at the end to ``frame`` (default: the model's
+convention, :attr:`uvms.model.Model.convention`) with :mod:`uvms.frames`.
 """
 
 from __future__ import annotations
@@ -70,8 +70,7 @@ def initial_state(log, model, *, frame: str | None = None, window: float = FIT_W
             with too few rows, ``omega_from="imu"`` without IMU rates.
     """
     checks.model(model)
-    own = getattr(model, "frame", "ned")                  # a model written z up says so in Model.frame
-    target = frames.check_frame(frame if frame is not None else own if isinstance(own, str) else "ned", "frame")
+    target = frames.check_frame(frame if frame is not None else model.convention, "frame")
     window = checks.number(window, "window", positive=True, unit="s")
     degree = checks.count(degree, "degree", minimum=1)
     if omega_from not in OMEGA_SOURCES:

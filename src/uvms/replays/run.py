@@ -35,16 +35,9 @@ DEFAULT_GRID = 0.04
 """Spacing of the comparison grid [s] (25 Hz, the bundled trials' motion-capture rate)."""
 
 
-def model_frame(model) -> str:
-    """The frame convention a model's numbers are in (``"ned"`` for a model without one)."""
-    frame = getattr(model, "frame", "ned")
-    return frame if isinstance(frame, str) else "ned"
-
-
 def in_log_frame(model, log):
-    """``model`` written in ``log``'s frame convention (itself when they agree)."""
-    if model_frame(model) == log.frame:
-        return model
+    """``model`` written in ``log``'s frame convention (:meth:`uvms.model.Model.in_frame`; itself when they
+    agree)."""
     return model.in_frame(log.frame)
 
 
