@@ -105,6 +105,8 @@ class JointMotion:
         if rates is not None:
             if smoothing is not None:
                 raise checks.fail("rates", "expected rates or smoothing, not both (a smoothing spline makes its own)")
+            if q.shape[1] == 1 and np.shape(rates) == (t.size,):
+                rates = np.reshape(rates, (-1, 1))
             qd = checks.matrix(rates, t.size, q.shape[1], "rates", " (one row per time, one column per joint)")
             pp, kind = CubicHermiteSpline(s, q, qd, axis=0), "hermite"
         elif smoothing is not None:
