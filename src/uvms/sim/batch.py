@@ -138,21 +138,21 @@ def run_plans(plans: Sequence[RunPlan], *, threads: int, progress: Callable[[int
             finished[0] += 1
             if progress is not None:
                 progress(finished[0], len(plans))
-    return tuple(result_of(plan, outcome, run[1], _time.perf_counter() - seconds)
+    return tuple(result_of(plan, outcome, run[1](), _time.perf_counter() - seconds)
                  for plan, run, (outcome, seconds) in zip(plans, runs, outcomes))
 
 
 def _runner(plan):
-    """``(advance(start, stop) -> (done, code), log)`` of a plan's compiled loop: the prescribed-motion loop
+    """``(advance(start, stop) -> (done, code), log())`` of a plan's compiled loop (``log()`` read after the run): the prescribed-motion loop
     (:mod:`uvms.sim.prescribed`) or the closed loop (:func:`uvms.sim.compiled_loop.advance_loop`)."""
     from uvms.sim.compiled_loop import CompiledLog, advance_loop, compiled_run
 
     if plan.motion is not None:
         from uvms.sim.prescribed import MotionLog, prescribed_advance
 
-        return prescribed_advance(plan), MotionLog(plan.layout.n_joints)
+        return prescribed_advance(plan), lambda: MotionLog(plan.layout.n_joints)
     run = compiled_run(plan)
-    return (lambda start, stop: advance_loop(run.loop, start, stop)), CompiledLog(run.log, run.signal_names)
+    return (lambda start, stop: advance_loop(run.loop, start, stop)), lambda: CompiledLog(run.log, run.signal_names)
 
 
 def rollout(model, trials: Sequence[Trial | State], *, duration: float, step: float = 1e-3, controller=None,
