@@ -116,6 +116,13 @@ def test_recorded_joints_are_the_interpolant_and_the_torques_are_labelled():
     result = uvms.simulate(model, duration=1.0, step=1e-3, record_period=0.01, inputs=uvms.Inputs(joint_motion=motion))
     q, qd, _ = motion(result.time)
     assert np.array_equal(result.q, q) and np.array_equal(result.qd, qd)
+    from uvms.sim.prescribed import motion_torques
+    from uvms.sim.run import prepare
+
+    plan = prepare(model, duration=1.0, step=1e-3, record_period=0.01, inputs=uvms.Inputs(joint_motion=motion))
+    each = np.zeros_like(result.joint_torques)              # every row evaluated on its own, after the run
+    motion_torques(plan.plant, plan.held, plan.motion, result.time, result.states, each)
+    assert np.allclose(result.joint_torques, each, rtol=1e-13, atol=1e-14)
     columns = result.columns()
     assert np.array_equal(columns[f"tau_{model.joint_names[0]}_Nm"], result.joint_torques[:, 0])
     assert np.abs(result.joint_torques).max() > 0.01 and result.metadata["joint_motion"] is True

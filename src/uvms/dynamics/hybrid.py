@@ -27,8 +27,10 @@ from __future__ import annotations
 from numba import njit
 
 from uvms.dynamics.blocks import cholesky_solve6, congruence_add_plucker, transform_force_add, transform_motion
+from uvms.dynamics.kernel_model import Z_AXIS
 from uvms.dynamics.passes import apply_external, outward_pass
 from uvms.jit import OPTIONS, kernel
+from uvms.kinematics import JOINT_Z
 
 
 @kernel
@@ -54,10 +56,16 @@ def aba_prescribed(km, ws, R0, nu, q, qd, qdd_given, tau, prescribed, f_body, f_
         U = ws.U[i]
         pA = ws.pA[i]
         c = ws.c[i]
+        z = km.joint_kind[i] == JOINT_Z         # S = e_z (modified DH): S^T x = x[Z_AXIS], IA S = IA[:, Z_AXIS]
         if prescribed[i - 1]:                   # the body is rigid on its joint: Ia = IA_i, pa = pA_i + IA_i (c + S qdd)
             sa = ws.sw
-            for k in range(6):
-                sa[k] = c[k] + km.S[i, k] * qdd_given[i - 1]
+            if z:
+                for k in range(6):
+                    sa[k] = c[k]
+                sa[Z_AXIS] += qdd_given[i - 1]
+            else:
+                for k in range(6):
+                    sa[k] = c[k] + km.S[i, k] * qdd_given[i - 1]
             for r in range(6):
                 s = 0.0
                 for k in range(6):
@@ -66,17 +74,23 @@ def aba_prescribed(km, ws, R0, nu, q, qd, qdd_given, tau, prescribed, f_body, f_
             congruence_add_plucker(ws.E[i], ws.r[i], IA, ws.IA[p], ws.rotated)
             transform_force_add(ws.E[i], ws.r[i], pa, ws.pA[p])
             continue
-        S = km.S[i]
-        for k in range(6):
-            s = 0.0
-            for j in range(6):
-                s += IA[k, j] * S[j]
-            U[k] = s
-        d = 0.0
-        sp = 0.0
-        for k in range(6):
-            d += S[k] * U[k]
-            sp += S[k] * pA[k]
+        if z:
+            for k in range(6):
+                U[k] = IA[k, Z_AXIS]
+            d = U[Z_AXIS]
+            sp = pA[Z_AXIS]
+        else:
+            S = km.S[i]
+            for k in range(6):
+                s = 0.0
+                for j in range(6):
+                    s += IA[k, j] * S[j]
+                U[k] = s
+            d = 0.0
+            sp = 0.0
+            for k in range(6):
+                d += S[k] * U[k]
+                sp += S[k] * pA[k]
         ws.d[i] = d
         u = (tau[i - 1] + ws.u[i]) - sp
         inv_d = 1.0 / d
@@ -111,18 +125,25 @@ def aba_prescribed(km, ws, R0, nu, q, qd, qdd_given, tau, prescribed, f_body, f_
         c = ws.c[i]
         for k in range(6):
             ai[k] += c[k]
+        z = km.joint_kind[i] == JOINT_Z
         if prescribed[i - 1]:
             qddi = qdd_given[i - 1]
-            for k in range(6):
-                ai[k] += km.S[i, k] * qddi
             IA = ws.IA[i]
             pA = ws.pA[i]
-            s = 0.0                             # tau_i = S^T (IA_i a_i + pA_i) - tau_p,i
-            for r in range(6):
-                f = pA[r]
+            if z:                               # tau_i = S^T (IA_i a_i + pA_i) - tau_p,i: row Z_AXIS only
+                ai[Z_AXIS] += qddi
+                s = pA[Z_AXIS]
                 for k in range(6):
-                    f += IA[r, k] * ai[k]
-                s += km.S[i, r] * f
+                    s += IA[Z_AXIS, k] * ai[k]
+            else:
+                for k in range(6):
+                    ai[k] += km.S[i, k] * qddi
+                s = 0.0
+                for r in range(6):
+                    f = pA[r]
+                    for k in range(6):
+                        f += IA[r, k] * ai[k]
+                    s += km.S[i, r] * f
             tau_out[i - 1] = s - ws.u[i]        # u still holds the passive torque of a prescribed joint
         else:
             U = ws.U[i]
@@ -130,8 +151,11 @@ def aba_prescribed(km, ws, R0, nu, q, qd, qdd_given, tau, prescribed, f_body, f_
             for k in range(6):
                 s += U[k] * ai[k]
             qddi = (ws.u[i] - s) / ws.d[i]
-            for k in range(6):
-                ai[k] += km.S[i, k] * qddi
+            if z:
+                ai[Z_AXIS] += qddi
+            else:
+                for k in range(6):
+                    ai[k] += km.S[i, k] * qddi
             tau_out[i - 1] = tau[i - 1]
         qdd[i - 1] = qddi
 

@@ -88,7 +88,7 @@ def checked_inputs(model, inputs: Inputs) -> Inputs:
                   joint_motion=inputs.joint_motion)
 
 
-def motion_of(model, inputs: Inputs, controller, integrator, timing: Timing):
+def motion_of(model, inputs: Inputs, controller, integrator, timing: Timing, rows: int):
     """The compiled :class:`~uvms.sim.prescribed.Motion` of ``inputs.joint_motion`` (``None`` without one), after
     the one-line refusals: another joint input beside it, a controller, an adaptive integrator, a run longer
     than the table (``docs/python.md``, "Prescribed joint motion")."""
@@ -112,7 +112,7 @@ def motion_of(model, inputs: Inputs, controller, integrator, timing: Timing):
     if timing.duration > motion.duration * (1.0 + 1e-12):
         raise checks.fail("joint_motion", f"expected a run no longer than the motion's table "
                                           f"({motion.duration:g} s), got duration {timing.duration:g} s")
-    return motion_data(*motion.for_model(model))
+    return motion_data(*motion.for_model(model), rows)
 
 
 def checked_recording(recording: Recording) -> Recording:
@@ -227,14 +227,14 @@ class RunPlan:
             state = state.replace(actuator=np.zeros(n_act))
         if inputs.fixed_base:
             state = state.replace(nu=np.zeros(6))
-        motion = motion_of(model, inputs, controller, integrator, timing)
+        every = record_every(timing, recording)
+        check_record_size(timing.n_total // every + 2, JOINTS + 2 * model.n_joints + n_act)
+        motion = motion_of(model, inputs, controller, integrator, timing, timing.n_total // every + 2)
         if motion is not None:                   # the joints start on the motion
             q0, qd0, _ = inputs.joint_motion(0.0)
             order = [inputs.joint_motion.joints.index(j) for j in model.joint_names] \
                 if inputs.joint_motion.joints is not None else slice(None)
             state = state.replace(q=q0[order], qd=qd0[order])
-        every = record_every(timing, recording)
-        check_record_size(timing.n_total // every + 2, JOINTS + 2 * model.n_joints + n_act)
         plant, _ = build_plant(model, thrusters=actuation.thrusters,
                                fluid=current_table(model, inputs.current, timing), fixed_base=inputs.fixed_base,
                                bounds=recording.bounds)

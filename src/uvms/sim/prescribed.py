@@ -8,8 +8,9 @@ RK4 integrates the vehicle (position, quaternion, ``nu``) and the actuator state
 every step are set to the motion's at the step's end, so every recorded ``q, qd`` *is* the interpolant's at
 its row's time (the stage derivative ``q' = qd(t), qd' = qdd(t)`` is written too, for readers of ``xdot``).
 
-The torques the motion takes are computed per recorded row (:func:`motion_torques`: the hybrid dynamics at the
-row's time and state), so a row's ``tau`` is exactly the torque at that state, not a held value.
+The torques the motion takes are those of each recorded row's time and state, not a held value: the first
+stage of the step that starts at a row evaluates exactly that (kept in ``Motion.row_tau``), and the rows no
+step starts from (the last; a diverged run's) are evaluated afterwards (:func:`motion_torques`).
 
 The RK4 loop repeats :func:`uvms.sim.integrate.rk4_steps` with the prescribed stage derivative in place of
 the ordinary one: the ordinary loop stays as it was (no branch per stage, no new arrays in its plant).
@@ -42,13 +43,16 @@ class Motion(NamedTuple):
     free_torques: np.ndarray    # (n,) torques of joints not prescribed (zeros in a run)
     qdd_out: np.ndarray         # (n,) the hybrid dynamics' joint accelerations (= qdd)
     tau: np.ndarray             # (n,) the torques the motion takes [N m or N]
+    row_tau: np.ndarray         # (rows, n) the torques at each recorded row, from the next step's first stage
+    filled: np.ndarray          # (1,) int64: rows 0 .. filled - 1 of row_tau are set
 
 
-def motion_data(breaks: np.ndarray, coefficients: np.ndarray) -> Motion:
-    """A :class:`Motion` of fresh C-ordered arrays (every joint prescribed)."""
+def motion_data(breaks: np.ndarray, coefficients: np.ndarray, rows: int) -> Motion:
+    """A :class:`Motion` of fresh C-ordered arrays (every joint prescribed) for a record of ``rows`` rows."""
     n = coefficients.shape[1]
     return Motion(np.ascontiguousarray(breaks, dtype=float), np.ascontiguousarray(coefficients, dtype=float),
-                  np.ones(n, dtype=np.bool_), *(np.zeros(n) for _ in range(6)))
+                  np.ones(n, dtype=np.bool_), *(np.zeros(n) for _ in range(6)), np.zeros((rows, n)),
+                  np.zeros(1, dtype=np.int64))
 
 
 @block
@@ -129,6 +133,12 @@ def rk4_prescribed_steps(plant, held, motion, x, h, n_steps, step0, record):
                 ts, xs = t + 0.5 * h, xt
             ks = stages[stage]
             prescribed_derivative(plant, held, motion, ts, xs, ks)
+            if stage == 0 and (step0 + step) % every == 0:   # the recorded row at t: keep its torques
+                row = record.count[0] - 1
+                if row >= 0 and out_t[row] == t:
+                    for j in range(n):
+                        motion.row_tau[row, j] = motion.tau[j]
+                    motion.filled[0] = row + 1
             if stage < 3:
                 c = h if stage == 2 else 0.5 * h
                 for k in range(N):
@@ -194,10 +204,16 @@ class MotionLog:
 
 
 def row_torques(plan, times: np.ndarray, states: np.ndarray) -> np.ndarray:
-    """(K, n) the torques ``plan``'s joint motion takes at each recorded row (:func:`motion_torques`)."""
+    """(K, n) the torques ``plan``'s joint motion takes at each recorded row: those the loop kept
+    (``Motion.row_tau``), the others by :func:`motion_torques`."""
+    motion = plan.motion
+    filled = min(int(motion.filled[0]), times.shape[0])
     tau = np.zeros((times.shape[0], plan.layout.n_joints))
-    motion_torques(plan.plant, plan.held, plan.motion, np.ascontiguousarray(times, dtype=float),
-                   np.ascontiguousarray(states, dtype=float), tau)
+    tau[:filled] = motion.row_tau[:filled]
+    rest = tau[filled:]
+    motion_torques(plan.plant, plan.held, motion, np.ascontiguousarray(times[filled:], dtype=float),
+                   np.ascontiguousarray(states[filled:], dtype=float), rest)
+    tau[filled:] = rest
     return tau
 
 
