@@ -57,7 +57,7 @@ def aba_prescribed(km, ws, R0, nu, q, qd, qdd_given, tau, prescribed, f_body, f_
         pA = ws.pA[i]
         c = ws.c[i]
         z = km.joint_kind[i] == JOINT_Z         # S = e_z (modified DH): S^T x = x[Z_AXIS], IA S = IA[:, Z_AXIS]
-        if prescribed[i - 1]:                   # the body is rigid on its joint: Ia = IA_i, pa = pA_i + IA_i (c + S qdd)
+        if prescribed[i - 1]:                   # rigid on its joint: Ia = IA_i, pa = pA_i + IA_i (c + S qdd)
             sa = ws.sw
             if z:
                 for k in range(6):

@@ -143,8 +143,9 @@ def run_plans(plans: Sequence[RunPlan], *, threads: int, progress: Callable[[int
 
 
 def _runner(plan):
-    """``(advance(start, stop) -> (done, code), log())`` of a plan's compiled loop (``log()`` read after the run): the prescribed-motion loop
-    (:mod:`uvms.sim.prescribed`) or the closed loop (:func:`uvms.sim.compiled_loop.advance_loop`)."""
+    """``(advance(start, stop) -> (done, code), log())`` of a plan's compiled loop (``log()`` read after the
+    run): the prescribed-motion loop (:mod:`uvms.sim.prescribed`) or the closed loop
+    (:func:`uvms.sim.compiled_loop.advance_loop`)."""
     from uvms.sim.compiled_loop import CompiledLog, advance_loop, compiled_run
 
     if plan.motion is not None:

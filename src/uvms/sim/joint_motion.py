@@ -197,8 +197,8 @@ def read_table(path: str | os.PathLike[str]) -> tuple[list[str], np.ndarray]:
     except OSError as exc:
         raise UvmsInputError(f"cannot read the joint-motion table: {exc.strerror or exc}", source) from None
     if size > MAX_TABLE_BYTES:
-        raise UvmsInputError(f"expected a table of at most {MAX_TABLE_BYTES // 2**20} MiB, found {size / 2**20:.1f} MiB",
-                             source)
+        raise UvmsInputError(f"expected a table of at most {MAX_TABLE_BYTES // 2**20} MiB, found "
+                             f"{size / 2**20:.1f} MiB", source)
     try:
         with p.open(newline="", encoding="utf-8") as f:
             rows = list(csv.reader(f))
