@@ -79,6 +79,8 @@ def _api() -> None:
         uvms.linearize(model, state)
         uvms.trimmed_state(model)
         uvms.simulate(model, duration=SHORT, step=1e-3)
+        motion = uvms.JointMotion.from_arrays([0.0, 2 * SHORT], np.full((2, n), 0.1))    # a prescribed replay
+        uvms.simulate(model, duration=SHORT, step=1e-3, joint_motion=motion)
 
 
 def _batch() -> None:

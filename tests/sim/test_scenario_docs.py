@@ -31,7 +31,7 @@ def scenarios_md() -> str:
 @pytest.mark.parametrize("heading, spec", [
     ("### Top level", "ScenarioSpec"), ("### `inputs`", "InputsSpec"), ("### `initial_state`", "InitialStateSpec"),
     ("### `controller`", "ControllerSpec"), ("### `outputs`", "OutputsSpec"),
-    ("**Joint trajectory.**", "JointTrajectorySpec"),
+    ("**Joint trajectory.**", "JointTrajectorySpec"), ("**Joint motion.**", "JointMotionSpec"),
 ])
 def test_every_scenario_field_has_a_row(scenarios_md, heading, spec):
     import uvms.sim.scenario as scenario

@@ -45,6 +45,8 @@ class Trial:
         current: the world current (as :class:`~uvms.sim.options.Inputs.current`).
         joint_torques: the joint-torque input (as :class:`~uvms.sim.options.Inputs.joint_torques`).
         controller: this trajectory's own controller (e.g. other parameters).
+        joint_motion: this trajectory's prescribed joint motion (as :class:`~uvms.sim.options.Inputs.joint_motion`),
+            e.g. one logged trial of an identification.
     """
 
     initial_state: State | None = None
@@ -52,6 +54,7 @@ class Trial:
     current: Any = None
     joint_torques: Any = None
     controller: Any = None
+    joint_motion: Any = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,7 +107,8 @@ def _trial_plan(model, trial: Trial, shared: tuple, timing: Timing) -> RunPlan:
     if trial.hydro_scale is not None:
         a, d = np.broadcast_to(np.asarray(trial.hydro_scale, dtype=float), (2,))
         plant_model = model.with_hydrodynamics_scaled(added_mass=float(a), drag=float(d))
-    changes = {k: v for k, v in (("current", trial.current), ("joint_torques", trial.joint_torques)) if v is not None}
+    changes = {k: v for k, v in (("current", trial.current), ("joint_torques", trial.joint_torques),
+                                 ("joint_motion", trial.joint_motion)) if v is not None}
     plan = RunPlan.build(plant_model, trial.initial_state, timing,
                          (trial.controller if trial.controller is not None else controller, actuation),
                          (replace(inputs, **changes), integrator, recording))
@@ -116,16 +120,15 @@ def run_plans(plans: Sequence[RunPlan], *, threads: int, progress: Callable[[int
     """Run prepared plans (each wholly compilable: :func:`uvms.sim.compiled_loop.compilable`) in a pool of
     ``threads`` threads; the compiled loops release the GIL, so the threads run in parallel. Each result is
     what :func:`uvms.simulate` gives for the same plan."""
-    from uvms.sim.compiled_loop import CompiledLog, advance_loop, compiled_run
     from uvms.sim.chunks import Outcome
     from uvms.sim.record import result_of
 
-    runs = [compiled_run(plan) for plan in plans]
+    runs = [_runner(plan) for plan in plans]
     finished = [0]
 
     def one(k: int):
         tic = _time.perf_counter()
-        done, code = advance_loop(runs[k].loop, 0, plans[k].timing.n_total)
+        done, code = runs[k][0](0, plans[k].timing.n_total)
         return Outcome(done, code), _time.perf_counter() - tic
 
     outcomes = []
@@ -135,8 +138,22 @@ def run_plans(plans: Sequence[RunPlan], *, threads: int, progress: Callable[[int
             finished[0] += 1
             if progress is not None:
                 progress(finished[0], len(plans))
-    return tuple(result_of(plan, outcome, CompiledLog(run.log, run.signal_names), _time.perf_counter() - seconds)
+    return tuple(result_of(plan, outcome, run[1](), _time.perf_counter() - seconds)
                  for plan, run, (outcome, seconds) in zip(plans, runs, outcomes))
+
+
+def _runner(plan):
+    """``(advance(start, stop) -> (done, code), log())`` of a plan's compiled loop (``log()`` read after the
+    run): the prescribed-motion loop (:mod:`uvms.sim.prescribed`) or the closed loop
+    (:func:`uvms.sim.compiled_loop.advance_loop`)."""
+    from uvms.sim.compiled_loop import CompiledLog, advance_loop, compiled_run
+
+    if plan.motion is not None:
+        from uvms.sim.prescribed import MotionLog, prescribed_advance
+
+        return prescribed_advance(plan), lambda: MotionLog(plan.layout.n_joints)
+    run = compiled_run(plan)
+    return (lambda start, stop: advance_loop(run.loop, start, stop)), lambda: CompiledLog(run.log, run.signal_names)
 
 
 def rollout(model, trials: Sequence[Trial | State], *, duration: float, step: float = 1e-3, controller=None,

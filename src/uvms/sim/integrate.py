@@ -94,15 +94,16 @@ def interpolate(table_t, table_v, t, out):
 
 
 @block
-def state_derivative(plant, held, t, x, xdot):
-    """``xdot = f(t, x)`` for the held inputs (:class:`~uvms.dynamics.plant.Held`) on the plant
-    (:class:`~uvms.dynamics.plant.Plant`; its scratch is used)."""
-    body = plant.body
+def stage_inputs(plant, held, t, x, xdot):
+    """The part of ``xdot = f(t, x)`` shared by every derivative (:func:`state_derivative`,
+    :func:`uvms.sim.prescribed.prescribed_derivative`): the body-to-world rotation of the normalised quaternion
+    into ``plant.scratch.R``, the actuators' state rates into ``xdot`` and their body wrench plus the held one
+    into ``vecs[0]``, the current and fluid acceleration at ``t`` into ``vecs[1]``, ``vecs[2]``, and the
+    vehicle's velocity ``nu`` (zero when clamped) into ``vecs[3]``. Returns the normalised quaternion."""
     scratch = plant.scratch
     R = scratch.R
     vecs = scratch.vecs
-    nb = body.parent.shape[0]
-    n = nb - 1
+    n = plant.body.parent.shape[0] - 1
     qw, qx, qy, qz = x[QUATERNION], x[QUATERNION + 1], x[QUATERNION + 2], x[QUATERNION + 3]
     norm = np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     qw, qx, qy, qz = qw / norm, qx / norm, qy / norm, qz / norm
@@ -112,17 +113,19 @@ def state_derivative(plant, held, t, x, xdot):
     actuator_rates(plant.actuators, x[a0:], held.command, f_body, xdot[a0:], scratch.thrust)
     for k in range(6):
         f_body[k] += held.body_wrench[k]
-    vc = vecs[1]
-    af = vecs[2]
     fluid = plant.fluid
-    interpolate(fluid.times, fluid.velocity, t, vc)
-    interpolate(fluid.times, fluid.acceleration, t, af)
+    interpolate(fluid.times, fluid.velocity, t, vecs[1])
+    interpolate(fluid.times, fluid.acceleration, t, vecs[2])
     nu = vecs[3]
     fixed_base = plant.fixed_base
     for k in range(6):
         nu[k] = 0.0 if fixed_base else x[NU + k]
-    aba_inlined(body, plant.work, R, nu, x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], held.joint_torques,
-                f_body, held.ee_wrench, vc, af, fixed_base, xdot[NU:JOINTS], xdot[JOINTS + n:JOINTS + 2 * n])
+    return qw, qx, qy, qz
+
+
+@block
+def vehicle_rates(R, nu, qw, qx, qy, qz, xdot):
+    """``p_dot = R v`` and ``quat_dot = 0.5 quat (x) [0, omega]`` into ``xdot`` (module docstring)."""
     w0, w1, w2 = nu[0], nu[1], nu[2]
     for r in range(3):
         xdot[POSITION + r] = R[r, 0] * nu[3] + R[r, 1] * nu[4] + R[r, 2] * nu[5]
@@ -130,6 +133,21 @@ def state_derivative(plant, held, t, x, xdot):
     xdot[QUATERNION + 1] = 0.5 * (qw * w0 + qy * w2 - qz * w1)
     xdot[QUATERNION + 2] = 0.5 * (qw * w1 + qz * w0 - qx * w2)
     xdot[QUATERNION + 3] = 0.5 * (qw * w2 + qx * w1 - qy * w0)
+
+
+@block
+def state_derivative(plant, held, t, x, xdot):
+    """``xdot = f(t, x)`` for the held inputs (:class:`~uvms.dynamics.plant.Held`) on the plant
+    (:class:`~uvms.dynamics.plant.Plant`; its scratch is used)."""
+    n = plant.body.parent.shape[0] - 1
+    qw, qx, qy, qz = stage_inputs(plant, held, t, x, xdot)
+    R = plant.scratch.R
+    vecs = plant.scratch.vecs
+    nu = vecs[3]
+    aba_inlined(plant.body, plant.work, R, nu, x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], held.joint_torques,
+                vecs[0], held.ee_wrench, vecs[1], vecs[2], plant.fixed_base, xdot[NU:JOINTS],
+                xdot[JOINTS + n:JOINTS + 2 * n])
+    vehicle_rates(R, nu, qw, qx, qy, qz, xdot)
     for j in range(n):
         xdot[JOINTS + j] = x[JOINTS + n + j]
 

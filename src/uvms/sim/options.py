@@ -53,6 +53,9 @@ class Inputs:
         fixed_base: clamp the vehicle (a land-based arm).
         control_period: update period of a callable ``joint_torques`` [s] (default: its ``period``
             attribute, or 10 ms). A vehicle controller is updated at its own ``period``.
+        joint_motion: a :class:`~uvms.sim.joint_motion.JointMotion`: every joint follows it exactly (hybrid
+            dynamics; the torques it takes are the result's ``joint_torques``), instead of ``joint_torques``.
+            Runs with RK4 and no controller; the initial state's ``q, qd`` are the motion's at ``t = 0``.
     """
 
     joint_torques: Any = None
@@ -61,6 +64,7 @@ class Inputs:
     current: Any = None
     fixed_base: bool = False
     control_period: float | None = None
+    joint_motion: Any = None
 
 
 @dataclass(frozen=True)

@@ -84,7 +84,35 @@ def checked_inputs(model, inputs: Inputs) -> Inputs:
                   ee_wrench=checks.optional_vector(inputs.ee_wrench, 6, "ee_wrench", " [moment; force]"),
                   current=current, fixed_base=checks.flag(inputs.fixed_base, "fixed_base"),
                   control_period=checks.optional_number(inputs.control_period, "control_period", positive=True,
-                                                        unit="s"))
+                                                        unit="s"),
+                  joint_motion=inputs.joint_motion)
+
+
+def motion_of(model, inputs: Inputs, controller, integrator, timing: Timing, rows: int):
+    """The compiled :class:`~uvms.sim.prescribed.Motion` of ``inputs.joint_motion`` (``None`` without one), after
+    the one-line refusals: another joint input beside it, a controller, an adaptive integrator, a run longer
+    than the table (``docs/python.md``, "Prescribed joint motion")."""
+    from uvms.sim.joint_motion import JointMotion
+    from uvms.sim.prescribed import motion_data
+
+    motion = inputs.joint_motion
+    if motion is None:
+        return None
+    if not isinstance(motion, JointMotion):
+        raise checks.fail("joint_motion", f"expected None or a uvms JointMotion, got {checks.show(motion)}")
+    if inputs.joint_torques is not None:
+        raise checks.fail("joint_motion", "expected joint_motion or joint_torques (a torque input or an arm "
+                                          "tracker), not both: the motion decides the joint torques")
+    if controller is not None:
+        raise checks.fail("joint_motion", "expected no vehicle controller with a joint motion (the replay runs "
+                                          "with the thrusters off)")
+    if integrator.name != "rk4":
+        raise checks.fail("joint_motion", f"expected the rk4 integrator with a joint motion, got "
+                                          f"{integrator.name!r}")
+    if timing.duration > motion.duration * (1.0 + 1e-12):
+        raise checks.fail("joint_motion", f"expected a run no longer than the motion's table "
+                                          f"({motion.duration:g} s), got duration {timing.duration:g} s")
+    return motion_data(*motion.for_model(model), rows)
 
 
 def checked_recording(recording: Recording) -> Recording:
@@ -183,6 +211,7 @@ class RunPlan:
     fixed_base: bool
     integrator: Rk4 | Adaptive
     recording: Recording
+    motion: Any = None          # uvms.sim.prescribed.Motion of a prescribed joint motion, or None
 
     @classmethod
     def build(cls, model, initial_state, timing: Timing, control: tuple, options: tuple) -> "RunPlan":
@@ -200,6 +229,12 @@ class RunPlan:
             state = state.replace(nu=np.zeros(6))
         every = record_every(timing, recording)
         check_record_size(timing.n_total // every + 2, JOINTS + 2 * model.n_joints + n_act)
+        motion = motion_of(model, inputs, controller, integrator, timing, timing.n_total // every + 2)
+        if motion is not None:                   # the joints start on the motion
+            q0, qd0, _ = inputs.joint_motion(0.0)
+            order = [inputs.joint_motion.joints.index(j) for j in model.joint_names] \
+                if inputs.joint_motion.joints is not None else slice(None)
+            state = state.replace(q=q0[order], qd=qd0[order])
         plant, _ = build_plant(model, thrusters=actuation.thrusters,
                                fluid=current_table(model, inputs.current, timing), fixed_base=inputs.fixed_base,
                                bounds=recording.bounds)
@@ -221,7 +256,7 @@ class RunPlan:
                    arm=ArmInput(inputs.joint_torques, model.n_joints, timing, inputs.control_period),
                    controller=controller, control_every=control_every, thrusters=actuation.thrusters,
                    fixed_base=inputs.fixed_base,
-                   integrator=integrator, recording=recording)
+                   integrator=integrator, recording=recording, motion=motion)
 
     def schedule(self):
         """The event grid of this run (:class:`uvms.sim.compiled_loop.Schedule`): controller period, arm period

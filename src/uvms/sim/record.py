@@ -123,10 +123,15 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
     update_times = np.array(log.steps) * timing.h
     which = np.clip(np.searchsorted(update_times, out_t + 0.5 * timing.h, side="right") - 1, 0, len(log.steps) - 1)
     out_tau = np.array(log.torques, dtype=float).reshape(len(log.steps), n)[which]
+    if plan.motion is not None:             # a prescribed joint motion: the torques it takes at every row
+        from uvms.sim.prescribed import row_torques
+
+        out_tau = row_torques(plan, out_t, out_x)
     ee = np.zeros((n_out, 3))
     end_effector_path(kernel_model(plan.model), np.ascontiguousarray(out_x), ee)
     meta = {"integrator": plan.integrator.name, "step_s": timing.h, "duration_s": timing.duration,
             "fixed_base": plan.fixed_base, "frame": plan.model.convention,
+            **({"joint_motion": True} if plan.motion is not None else {}),
             "wall_time_s": _time.perf_counter() - wall0, "model": plan.model.name,
             "joint_names": list(plan.model.joint_names), "joint_types": list(plan.model.joint_type), **versions(),
             **actuation_metadata(plan), **set_point_metadata(plan), **(plan.recording.metadata or {})}

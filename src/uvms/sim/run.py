@@ -16,6 +16,7 @@ from uvms.sim.compiled_loop import compilable, run_compiled
 from uvms.sim.loop import run_python
 from uvms.sim.options import Actuation, Inputs, Recording, grouped  # noqa: F401  (Actuation re-exported)
 from uvms.sim.plan import MAX_STEPS, RunPlan, Timing, check_steps, events  # noqa: F401  (re-exported)
+from uvms.sim.prescribed import run_prescribed
 from uvms.sim.record import result_of
 from uvms.sim.result import Result
 from uvms.state import State
@@ -68,7 +69,7 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
     wall0 = _time.perf_counter()
     plan = prepare(model, initial_state, duration=duration, step=step, controller=controller, actuation=actuation,
                    inputs=inputs, **options)
-    loop = run_compiled if compilable(plan) else run_python
+    loop = run_prescribed if plan.motion is not None else run_compiled if compilable(plan) else run_python
     outcome, log = loop(plan, _Chunking(FIRST_CHUNK_STEPS, _next_chunk))
     return result_of(plan, outcome, log, wall0)
 

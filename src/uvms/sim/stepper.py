@@ -48,6 +48,9 @@ class Simulator:
         checks.model(model)
         self.model = model
         inputs = inputs or Inputs()
+        if isinstance(inputs, Inputs) and inputs.joint_motion is not None:
+            raise checks.fail("joint_motion", "expected no joint motion in the step API: a prescribed joint motion "
+                                              "runs with uvms.simulate or uvms.rollout")
         self._own_torques = inputs.joint_torques is None
         if self._own_torques:
             inputs = Inputs(**{**inputs.__dict__, "joint_torques": np.zeros(model.n_joints)})

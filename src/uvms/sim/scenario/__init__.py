@@ -38,6 +38,7 @@ from uvms.sim.scenario.schema import (
     InitialStateSpec,
     InputsSpec,
     JointTorques,
+    JointMotionSpec,
     JointTrajectorySpec,
     ModelOverrides,
     OutputsSpec,
@@ -48,8 +49,8 @@ from uvms.sim.scenario.schema import (
 
 __all__ = [
     "INTEGRATORS", "ConstantTorques", "ControllerSpec", "CurrentSpec", "CurrentTableSpec", "EnvironmentOverrides",
-    "HealthSpec", "InitialStateSpec", "InputsSpec", "JointTorques", "JointTrajectorySpec", "ModelOverrides",
-    "OutputsSpec", "Scenario", "ScenarioSpec", "Tolerances", "TorqueStep", "apply_overrides", "build_controller",
-    "build_initial_state", "bundled_scenarios", "load_scenario", "plan_scenario", "resolve_scenario_path",
+    "HealthSpec", "InitialStateSpec", "InputsSpec", "JointTorques", "JointMotionSpec", "JointTrajectorySpec",
+    "ModelOverrides", "OutputsSpec", "Scenario", "ScenarioSpec", "Tolerances", "TorqueStep", "apply_overrides",
+    "build_controller", "build_initial_state", "bundled_scenarios", "load_scenario", "plan_scenario", "resolve_scenario_path",
     "run_scenario", "scenario_from_data", "tracker_for",
 ]

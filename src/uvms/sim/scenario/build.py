@@ -24,7 +24,8 @@ from uvms.model.model import Model
 from uvms.sim.health import actuation_metadata
 from uvms.sim.inputs import CurrentTable
 from uvms.sim.result import Result
-from uvms.sim.scenario.schema import ControllerSpec, InitialStateSpec, JointTrajectorySpec, ModelOverrides, ScenarioSpec
+from uvms.sim.scenario.schema import (ControllerSpec, InitialStateSpec, JointMotionSpec, JointTrajectorySpec,
+                                     ModelOverrides, ScenarioSpec)
 from uvms.state import State
 
 if TYPE_CHECKING:
@@ -84,6 +85,14 @@ class Scenario:
             return CurrentTable(t, v, np.array(c.table.acceleration, dtype=float))
         return CurrentTable.from_velocity_table(t, v, self.spec.duration, self.spec.step)
 
+    def joint_motion(self):
+        """The prescribed joint motion (``None`` without one), built once (:func:`build_joint_motion`)."""
+        if self.spec.inputs.joint_motion is None:
+            return None
+        if "joint_motion" not in self._built:
+            self._built["joint_motion"] = build_joint_motion(self.spec.inputs.joint_motion, self, self.source)
+        return self._built["joint_motion"]
+
     def make_controller(self):
         """A fresh controller from the registry (``None`` without one): the one loading built, if no run has
         taken it yet, else a new one."""
@@ -112,6 +121,7 @@ class Scenario:
         """
         if self.spec.initial_state.trimmed:
             self.initial_state()                          # no rest attitude: fail now
+        self.joint_motion()                               # a bad table, unknown joint, too short: fail now
         if self.spec.controller is not None and "controller" not in self._built:
             self._built["controller"] = build_controller(self.spec.controller, self.model, self.source)
 
@@ -134,6 +144,7 @@ class Scenario:
         if inputs.joint_trajectory is not None:
             joint_torques = tracker_for(inputs.joint_trajectory, self.model)
             control_period = inputs.joint_trajectory.period
+        motion = self.joint_motion()
         actuation = Actuation.named(spec.actuators, self.model)
         metadata = {"scenario": self.name, "scenario_source": self.source, "scenario_sha256": self.sha256,
                     "model_source": self.model.source, "vehicle": spec.vehicle, "actuators": spec.actuators,
@@ -142,7 +153,7 @@ class Scenario:
                     **actuation_metadata(actuation)}
         return dict(
             model=self.model, initial_state=self.initial_state(), duration=spec.duration, step=spec.step,
-            integrator=spec.integrator, fixed_base=self.fixed_base, joint_torques=joint_torques,
+            integrator=spec.integrator, fixed_base=self.fixed_base, joint_torques=joint_torques, joint_motion=motion,
             body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=self.current(),
             controller=self.make_controller(), actuation=actuation, control_period=control_period,
             record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
@@ -210,6 +221,39 @@ def build_initial_state(spec: InitialStateSpec, model: Model, source: str | None
             raise UvmsInputError(exc.message, source, "initial_state.trimmed") from None
         euler = rest.euler
     return State.from_euler(model, position=spec.position, euler=euler, nu=spec.nu, q=spec.q, qd=spec.qd)
+
+
+def build_joint_motion(spec: JointMotionSpec, scenario: Scenario, source: str | None = None):
+    """The :class:`~uvms.sim.joint_motion.JointMotion` of ``inputs.joint_motion`` (a file's path relative to the
+    scenario file, else to the working folder), checked against the model and the duration.
+
+    Raises:
+        UvmsInputError: an unreadable or malformed table, a missing column, an unknown or missing joint,
+            non-increasing times, a non-finite value, a table shorter than the run (one line naming the field).
+    """
+    from pathlib import Path
+
+    from uvms.sim.joint_motion import JointMotion
+
+    field = "inputs.joint_motion"
+    options = {"boundary": spec.boundary, "smoothing": spec.smoothing}
+    try:
+        if spec.file is not None:
+            path = Path(spec.file).expanduser()
+            if not path.is_absolute() and source is not None:
+                path = Path(source).parent / path
+            motion = JointMotion.from_csv(path, time=spec.time, columns=dict(spec.columns), **options)
+        else:
+            motion = JointMotion.from_arrays(np.array(spec.times), [list(r) for r in spec.angles], joints=spec.joints,
+                                             **options)
+        motion.for_model(scenario.model, "joints")
+    except UvmsInputError as exc:
+        where = f"{field}.file ({exc.source})" if exc.source and spec.file is not None else field
+        raise UvmsInputError(exc.message, source, f"{where}.{exc.path}" if exc.path else where) from None
+    if scenario.spec.duration > motion.duration * (1.0 + 1e-12):
+        raise UvmsInputError(f"expected a table covering the duration ({scenario.spec.duration:g} s), found "
+                             f"{motion.duration:g} s", source, field)
+    return motion
 
 
 def tracker_for(trajectory: JointTrajectorySpec, model: Model):

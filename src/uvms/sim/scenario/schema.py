@@ -213,11 +213,43 @@ class JointTrajectorySpec(Spec):
         return self
 
 
+class JointMotionSpec(Spec):
+    """A prescribed joint motion (:class:`uvms.sim.joint_motion.JointMotion`): every joint follows it exactly,
+    from a CSV table file (``file``, ``time``, ``columns``) or inline (``times``, ``angles``)."""
+
+    file: Annotated[str, Field(min_length=1)] | None = None   # CSV table (relative: to the scenario file)
+    time: Annotated[str, Field(min_length=1)] | None = None   # the file's column of times [s]
+    columns: dict[str, Annotated[str, Field(min_length=1)]] | None = None   # joint name -> the file's column
+    times: Vector | None = None                   # inline: row times [s], increasing
+    angles: tuple[Vector, ...] | None = None      # inline: one row per time, one value per joint [rad or m]
+    joints: tuple[str, ...] | None = None         # inline: the joint of each angle column (default: joint order)
+    boundary: Literal["not-a-knot", "clamped", "natural"] = "not-a-knot"   # the cubic spline's end condition
+    smoothing: Positive | Literal["gcv"] | None = None    # a smoothing spline's penalty [s^3], or "gcv"
+
+    @model_validator(mode="after")
+    def _one_form(self) -> JointMotionSpec:
+        table = self.file is not None
+        inline = self.times is not None or self.angles is not None
+        if table == inline:
+            raise fail(f"expected either file (with time and columns) or times and angles, found "
+                       f"{'both' if table else 'neither'}")
+        if table and (self.time is None or not self.columns):
+            raise fail("expected the file's time column and columns {joint: column}", "time" if self.time is None
+                       else "columns")
+        if inline and (self.times is None or self.angles is None):
+            raise fail("expected both times and angles", "times" if self.times is None else "angles")
+        if inline and len(self.angles) != len(self.times):
+            raise fail(f"expected one row of angles per time ({len(self.times)}), found {len(self.angles)}",
+                       "angles")
+        return self
+
+
 class InputsSpec(Spec):
     """External inputs, held between updates (zero-order hold)."""
 
     joint_torques: JointTorques | None = None     # [N m]; default: zero
     joint_trajectory: JointTrajectorySpec | None = None   # instead of joint_torques: track a joint trajectory
+    joint_motion: JointMotionSpec | None = None   # instead of both: the joints follow a table exactly
     body_wrench: Vec6 = ZERO6                     # on the vehicle, body axes [moment; force] [N m, N]
     ee_wrench: Vec6 = ZERO6                       # on the end effector, its axes [moment; force] [N m, N]
     current: CurrentSpec | None = None            # default: the model's environment current
@@ -226,6 +258,9 @@ class InputsSpec(Spec):
     def _one_arm_input(self) -> InputsSpec:
         if self.joint_torques is not None and self.joint_trajectory is not None:
             raise fail("expected joint_torques or joint_trajectory, not both", "joint_trajectory")
+        if self.joint_motion is not None and (self.joint_torques is not None or self.joint_trajectory is not None):
+            raise fail("expected joint_motion or a joint torque input (joint_torques, joint_trajectory), not both",
+                       "joint_motion")
         return self
 
     def torque_schedule(self) -> TorqueSchedule | None:
