@@ -2,12 +2,28 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
 from uvms.model.model import Model
 from uvms.rotations import rotation_from_euler
 from uvms.spatial import modified_dh_pose
+
+
+MAX_AUTO_WORKERS = 4
+"""Most test processes ``-n auto`` starts (pyproject.toml's ``addopts``): each one imports the whole stack and
+loads the compiled kernels it uses, and the longest test files bound the wall time anyway, so a machine of many
+cores gains nothing from more (``-n N`` or ``PYTEST_XDIST_AUTO_NUM_WORKERS`` chooses another number)."""
+
+
+@pytest.hookimpl(optionalhook=True, tryfirst=True)
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto``: one test process per core this process may run on, at most :data:`MAX_AUTO_WORKERS`."""
+    if os.environ.get("PYTEST_XDIST_AUTO_NUM_WORKERS"):
+        return None                      # pytest-xdist's own hook reads it
+    return max(1, min(len(os.sched_getaffinity(0)), MAX_AUTO_WORKERS))
 
 
 def random_inertia(rng: np.random.Generator, mass: float, size: float) -> np.ndarray:

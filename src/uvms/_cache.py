@@ -88,6 +88,8 @@ PREBUILT_DIR = PACKAGE_DIR / "_kernels"
 """Where ``pip install`` leaves the kernels it compiled (:mod:`uvms.precompile`), one folder per fingerprint."""
 SEEDED_MARK = ".uvms-seeded"
 """A file in a cache folder that was filled from :data:`PREBUILT_DIR` (so it is copied once)."""
+SEED_LOCK = ".uvms-seed.lock"
+"""The lock file of a cache folder that :func:`seed` holds while it copies (an exclusive ``flock``)."""
 LOCATOR = "uvms._cache.PackageLocator"
 """numba's name of :class:`PackageLocator` (``NUMBA_CACHE_LOCATOR_CLASSES``, numba >= 0.61)."""
 NUMBA_LOCATORS = ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator", "IPythonCacheLocator",
@@ -151,15 +153,23 @@ def seed(folder: Path, prebuilt: Path | None = None) -> bool:
     """Fill an empty cache ``folder`` with the kernels compiled at install (``_kernels/numba-<fingerprint>``)
     once; returns whether it copied anything. A folder that already holds compiled kernels is left as it is
     (numba replaces what is stale), and nothing is copied when ``UVMS_NO_PREBUILT`` is set (to measure a
-    compile from nothing)."""
+    compile from nothing).
+
+    Processes that start at once on an empty cache (a sweep's workers, the test suite's parallel workers) take
+    turns through the folder's :data:`SEED_LOCK`: one copies, the others wait for its :data:`SEEDED_MARK` and
+    copy nothing, so none of them reads a kernel file that another is still writing."""
     import shutil
 
     prebuilt = prebuilt or PREBUILT_DIR / f"numba-{fingerprint()}"
     if os.environ.get("UVMS_NO_PREBUILT") or not prebuilt.is_dir() or (folder / SEEDED_MARK).exists():
         return False
     try:
-        shutil.copytree(prebuilt, folder, dirs_exist_ok=True)
-        (folder / SEEDED_MARK).write_text(str(prebuilt) + "\n")
+        folder.mkdir(parents=True, exist_ok=True)
+        with _locked(folder / SEED_LOCK):
+            if (folder / SEEDED_MARK).exists():
+                return False          # another process seeded it while this one waited
+            shutil.copytree(prebuilt, folder, dirs_exist_ok=True)
+            (folder / SEEDED_MARK).write_text(str(prebuilt) + "\n")
     except OSError:
         return False          # a partly copied folder is a partial cache: numba compiles what is missing
     return True
@@ -213,22 +223,20 @@ def announce_compile() -> bool:
 
 
 @contextlib.contextmanager
-def compile_lock():
-    """Hold the cache folder's lock file (``.uvms-compile.lock``, an exclusive ``flock``) for the duration: the
-    processes of one machine that may compile the same kernels (a sweep's workers warming up) take turns, so
-    the first compiles and the others load what it cached. Without a cache folder, or on a system without
-    ``fcntl``, it holds nothing."""
-    folder = os.environ.get("NUMBA_CACHE_DIR")
+def _locked(lock_file: Path):
+    """Hold an exclusive ``flock`` of ``lock_file`` (created if needed) for the duration; hold nothing when it
+    cannot be opened or on a system without ``fcntl``."""
     try:
         import fcntl
     except ImportError:                  # pragma: no cover - not POSIX
         fcntl = None
-    if not folder or fcntl is None:
-        yield
-        return
-    try:
-        handle = open(Path(folder) / ".uvms-compile.lock", "a")
-    except OSError:
+    handle = None
+    if fcntl is not None:
+        try:
+            handle = open(lock_file, "a")
+        except OSError:
+            handle = None
+    if handle is None:
         yield
         return
     with handle:
@@ -237,6 +245,20 @@ def compile_lock():
             yield
         finally:
             fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+@contextlib.contextmanager
+def compile_lock():
+    """Hold the cache folder's lock file (``.uvms-compile.lock``, an exclusive ``flock``) for the duration: the
+    processes of one machine that may compile the same kernels (a sweep's workers warming up) take turns, so
+    the first compiles and the others load what it cached. Without a cache folder, or on a system without
+    ``fcntl``, it holds nothing."""
+    folder = os.environ.get("NUMBA_CACHE_DIR")
+    if not folder:
+        yield
+        return
+    with _locked(Path(folder) / ".uvms-compile.lock"):
+        yield
 
 
 def compile_without_cache() -> None:
