@@ -157,26 +157,6 @@ WORLD_AXES = {"ned": ("x north", "y east", "z down"), "enu": ("x", "y", "z up")}
 which need not be east: its horizontal axes are not named after compass points."""
 
 
-def convert_state(state, source: str, target: str):
-    """A :class:`uvms.state.State` (or anything with ``position``, ``quaternion``, ``nu`` and ``replace``) from
-    ``source``'s convention to ``target``'s: ``H p``, ``[w, x, -y, -z]``, ``H6 nu``; the joint angles and rates
-    and the actuator states (motor speeds, duct flows, thrusts along each thruster's own direction) are the
-    same in both."""
-    if _same(source, target):
-        return state
-    return state.replace(position=convert_vectors(state.position, source, target),
-                         quaternion=convert_quaternions(state.quaternion, source, target),
-                         nu=convert_twists(state.nu, source, target))
-
-
-VEHICLE_AXES = {"ned": "x fwd, y stbd, z down", "enu": "x fwd, y port, z up"}
-"""The vehicle's body axes in words (report and trim headers)."""
-
-WORLD_AXES = {"ned": ("x north", "y east", "z down"), "enu": ("x", "y", "z up")}
-"""The world axes' labels (3-D views, plots). The enu world of the half-turn map has x along the ned world's x,
-which need not be east: its horizontal axes are not named after compass points."""
-
-
 def depth(z, frame: str):
     """Depth [m] (positive down) of world heights or z coordinates ``z``: ``z`` in ned, ``-z`` in enu."""
     return z if check_frame(frame) == "ned" else -np.asarray(z)

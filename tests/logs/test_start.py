@@ -90,6 +90,8 @@ def test_a_window_with_too_few_rows_and_imu_rates_that_are_not_there(tmp_path, m
     log = _write_motion(tmp_path)
     with pytest.raises(UvmsInputError, match=r"window: pose: 2 rows within 0.006 s of the start, a degree-2 fit "
                                              r"needs 3"):
-        log.initial_state(model, window=0.012)   # rows at 1.00 and 1.01 s only
+        log.initial_state(model, window=0.003)   # widened 4 times: rows at 1.00 and 1.01 s only
+    widened = log.initial_state(model, window=0.012)     # 2 rows, widened to 0.024 s: 3 rows
+    np.testing.assert_array_equal(widened.nu, log.initial_state(model, window=0.024).nu)
     with pytest.raises(UvmsInputError, match="omega_from='imu' needs an imu stream"):
         log.initial_state(model, omega_from="imu")

@@ -29,6 +29,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "buoyancy,cob.x,cob.z=-0.05:0.05,damping.linear.pitch)")
     parser.add_argument("--held-out", nargs="+", default=[], metavar="LOG",
                         help="logs scored before and after, never fitted")
+    parser.add_argument("--exclude", nargs="+", default=[], metavar="LOG",
+                        help="logs (names or patterns) to leave out of the LOG list (e.g. trials whose motion capture "
+                             "lost track)")
     parser.add_argument("--signals", default="roll,pitch", metavar="S,S",
                         help="compared signals: roll, pitch, yaw, depth, x, y (default roll,pitch)")
     parser.add_argument("--max-evaluations", type=int, default=30, metavar="N",
@@ -57,6 +60,7 @@ def run(args: argparse.Namespace) -> int:
     from uvms.identify.fit import parse_parameter
     from uvms.identify.write import write_fitted_model
     from uvms.logs import Log
+    from uvms.logs.bundled import log_name
     from uvms.model.load import load_model
     from uvms.model.parameters import parameter
     from uvms.output import check_file_output, default_file_name
@@ -72,7 +76,11 @@ def run(args: argparse.Namespace) -> int:
         raise UvmsInputError("expected a file name, found an empty string", None, "--output")
     output = Path(args.output) if args.output else Path(default_file_name([f"{model.name}_fit"], ".yaml"))
     check_file_output(output, "--output", named=args.output is not None, force=args.force)
-    fitted_paths, held_paths = _logs(args.logs), _logs(args.held_out)
+    excluded = {p.resolve() for p in _logs(args.exclude)}
+    fitted_paths = [p for p in _logs(args.logs) if p.resolve() not in excluded]
+    held_paths = _logs(args.held_out)
+    if not fitted_paths:
+        raise UvmsInputError("no log left to fit after --exclude", None, "LOG")
     both = {p.resolve() for p in fitted_paths} & {p.resolve() for p in held_paths}
     if both:
         raise UvmsInputError("is both fitted and held out", str(sorted(both)[0]), "--held-out")
@@ -88,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
         result = identify(simulated, experiments, fit_names, held_out=held_out, signals=signals,
                           max_evaluations=args.max_evaluations, threads=args.threads, progress=progress)
     write_fitted_model(result.in_frame(model.convention, logs[0].frame), model.source, output,
-                       logs=[str(p) for p in fitted_paths + held_paths], named=args.output is not None,
+                       logs=[log_name(p) for p in fitted_paths + held_paths], named=args.output is not None,
                        force=args.force)
     _print(result, output)
     return 0

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from uvms.errors import UvmsInputError
+from uvms.frames import depth
 from uvms.logs.score import wrap
 from uvms.sim.options import Inputs
 from uvms.state import State
@@ -47,8 +48,8 @@ def signal_values(name: str, times, position, euler, frame: str = "ned") -> np.n
         yaw = np.unwrap(np.asarray(euler[:, 2], dtype=float))
         return yaw - yaw[0]
     if name == "depth":
-        dz = np.asarray(position[:, 2], dtype=float) - position[0, 2]
-        return dz if frame == "ned" else -dz
+        d = depth(np.asarray(position[:, 2], dtype=float), frame)
+        return d - d[0]
     if name in ("x", "y"):
         k = "xy".index(name)
         return np.asarray(position[:, k], dtype=float) - position[0, k]

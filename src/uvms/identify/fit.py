@@ -172,14 +172,20 @@ def _plans(models, experiments: Sequence[Experiment]):
 
 
 def simulate_experiments(models, experiments: Sequence[Experiment], *, threads: int | None = None):
-    """Run every experiment with every model (models outer), in threads: a list of lists of results."""
+    """Run every experiment with every model (models outer), in threads: a list of lists of results. Joint
+    limits crossed are left in each result's metadata, not warned: a logged motion crosses them in every run
+    alike (``uvms replay`` of that log says so once)."""
     import os
+    import warnings
 
+    from uvms.model.limits import JointLimitWarning
     from uvms.sim.batch import run_plans
 
     if not experiments:
         return [[] for _ in models]
-    results = run_plans(_plans(models, experiments), threads=threads or os.cpu_count() or 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", JointLimitWarning)
+        results = run_plans(_plans(models, experiments), threads=threads or os.cpu_count() or 1)
     n = len(experiments)
     return [list(results[i * n:(i + 1) * n]) for i in range(len(models))]
 

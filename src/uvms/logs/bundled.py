@@ -53,3 +53,14 @@ def resolve_logs(name_or_path: str | os.PathLike[str]) -> list[Path]:
     if len(matched) > MAX_MATCHES:
         raise UvmsInputError(f"names {len(matched)} logs; expected at most {MAX_MATCHES}", text)
     return [Path(str(_data() / n / f"{n.split('/')[1]}.yaml")) for n in matched]
+
+
+def log_name(path) -> str:
+    """A log's name for records: ``<dataset>/<trial>`` for a bundled log, else the path as given."""
+    path = Path(path)
+    try:
+        data = Path(str(_data())).resolve()
+        relative = path.resolve().relative_to(data)
+    except (ValueError, OSError):
+        return str(path)
+    return f"{relative.parts[0]}/{relative.parts[1]}" if len(relative.parts) == 3 else str(path)

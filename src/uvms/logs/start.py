@@ -39,15 +39,19 @@ OMEGA_SOURCES = ("pose", "imu")
 
 
 def local_fit(t: np.ndarray, y: np.ndarray, t0: float, window: float, degree: int,
-              what: str) -> tuple[np.ndarray, np.ndarray]:
+              what: str, source: str | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Value and first derivative at ``t0`` of the least-squares polynomial of ``degree`` through the rows
-    ``(t_k, y_k)`` with ``|t_k - t0| <= window / 2`` (``y`` (K, m)); ``what`` names the stream in the message
-    when the window holds fewer than ``degree + 1`` rows."""
-    half = window / 2.0
-    near = np.abs(t - t0) <= half * (1.0 + 1e-12)
-    if near.sum() < degree + 1:
+    ``(t_k, y_k)`` with ``|t_k - t0| <= window / 2`` (``y`` (K, m)). A window holding fewer than ``degree + 1``
+    rows (a stream that begins at the start, or a gap in it) is widened twice, to 2 and 4 times ``window``;
+    then ``what`` (the stream) and ``source`` (the log) are named in the message."""
+    for widen in (1.0, 2.0, 4.0):
+        half = widen * window / 2.0
+        near = np.abs(t - t0) <= half * (1.0 + 1e-12)
+        if near.sum() >= degree + 1:
+            break
+    else:
         raise UvmsInputError(f"{what}: {near.sum()} rows within {half:g} s of the start, a degree-{degree} fit "
-                             f"needs {degree + 1} (give a wider window)", path="window")
+                             f"needs {degree + 1} (give a wider window)", source, "window")
     tau = (t[near] - t0) / half
     coefficients = np.linalg.lstsq(np.vander(tau, degree + 1, increasing=True), y[near], rcond=None)[0]
     return coefficients[0], coefficients[1] / half
@@ -82,7 +86,7 @@ def initial_state(log, model, *, frame: str | None = None, window: float = FIT_W
     position = interpolate.values(pose.time, pose.parts["position"], t0)[0]
     quaternion = interpolate.slerp(pose.time, pose.parts["quaternion"], t0)[0]
     attitude = interpolate.rotations(quaternion)
-    velocity_world = local_fit(pose.time, pose.parts["position"], log.start, window, degree, "pose")[1]
+    velocity_world = local_fit(pose.time, pose.parts["position"], log.start, window, degree, "pose", log.source)[1]
     velocity = attitude.inv().apply(velocity_world)[0]
     if omega_from == "imu":
         imu = log.streams.get("imu")
@@ -92,13 +96,14 @@ def initial_state(log, model, *, frame: str | None = None, window: float = FIT_W
         omega = interpolate.values(imu.time, imu.parts["angular_velocity"], t0)[0]
     else:
         relative = (attitude.inv() * interpolate.rotations(pose.parts["quaternion"])).as_rotvec()
-        omega = local_fit(pose.time, relative, log.start, window, degree, "pose")[1]
+        omega = local_fit(pose.time, relative, log.start, window, degree, "pose", log.source)[1]
     q, qd = np.zeros(model.n_joints), np.zeros(model.n_joints)
     if "joints" in log.streams:
         joints = log.streams["joints"]
         angles = interpolate.values(joints.time, joints.parts["q"], t0)[0]
         fitted = [j for j in joints.names if j not in joints.rate_names]
-        rates = local_fit(joints.time, joints.parts["q"], log.start, window, degree, "joints")[1] if fitted else []
+        rates = local_fit(joints.time, joints.parts["q"], log.start, window, degree, "joints",
+                           log.source)[1] if fitted else []
         logged = interpolate.values(joints.time, joints.parts["qd"], t0)[0] if joints.rate_names else []
         for k, joint in enumerate(joints.names):
             i = model.joint_names.index(joint)

@@ -5,6 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+class JointLimitWarning(UserWarning):
+    """A run crossed a joint limit of its model (one warning per run; the lines are in the result's metadata)."""
+
+
 QUANTITIES = (("position", "q", "rad or m"), ("velocity", "qd", "rad/s or m/s"), ("effort", "tau", "N m or N"))
 
 

@@ -187,10 +187,10 @@ def replay(model, log, *, step: float = DEFAULT_STEP, grid: float = DEFAULT_GRID
 
 
 def _depth(result, times, frame: str) -> np.ndarray:
-    """Depth [m, positive down] of a run at ``times``."""
-    from uvms.frames import UP
+    """Depth [m, positive down] of a run at ``times`` (:func:`uvms.frames.depth`)."""
+    from uvms.frames import depth
 
-    return -np.interp(times, result.time, result.position[:, 2]) * UP[frame][2]
+    return depth(np.interp(times, result.time, result.position[:, 2]), frame)
 
 
 def log_result(log, model, *, grid: float = DEFAULT_GRID):

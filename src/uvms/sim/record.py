@@ -144,7 +144,7 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
 def report_joint_limits(model, t, x, tau, meta: dict) -> None:
     """Joint limits crossed in the run (:func:`uvms.model.limits.joint_limit_crossings`): a warning, and the
     lines under ``metadata["joint_limit_crossings"]``."""
-    from uvms.model.limits import joint_limit_crossings
+    from uvms.model.limits import JointLimitWarning, joint_limit_crossings
 
     n = model.n_joints
     lines = joint_limit_crossings(model, t, x[:, JOINTS:JOINTS + n], x[:, JOINTS + n:JOINTS + 2 * n], tau)
@@ -153,4 +153,4 @@ def report_joint_limits(model, t, x, tau, meta: dict) -> None:
 
         meta["joint_limit_crossings"] = lines
         warnings.warn(f"{model.name}: {lines[0]}" + (f" (and {len(lines) - 1} more)" if len(lines) > 1 else ""),
-                      stacklevel=4)
+                      JointLimitWarning, stacklevel=4)
