@@ -353,7 +353,7 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], *, dpi: int = 110) ->
 
 
 _SIGNAL_LABELS = {"roll": "roll [deg]", "pitch": "pitch [deg]", "yaw": "yaw change [deg]",
-                  "depth": "depth change [m]", "x": "x change [m]", "y": "y change [m]"}
+                  "depth": "depth change [{}]", "x": "x change [{}]", "y": "y change [{}]"}
 
 
 def comparison_figure(times, measured: dict, simulated: dict, *, held: dict | None = None,
@@ -372,7 +372,8 @@ def comparison_figure(times, measured: dict, simulated: dict, *, held: dict | No
     fig = Figure(figsize=(12, 3.3 * rows), layout="constrained")
     axes = fig.subplots(rows, 2, squeeze=False).ravel()
     for ax, name in zip(axes, names):
-        scale = np.degrees(1.0) if name in ("roll", "pitch", "yaw") else 1.0
+        angle = name in ("roll", "pitch", "yaw")
+        scale, unit = (np.degrees(1.0), "deg") if angle else length_unit(measured[name], simulated[name])
         ax.plot(times, scale * np.asarray(measured[name]), color="black", lw=1.4, label=labels[0])
         ax.plot(times, scale * np.asarray(simulated[name]), color="tab:blue", lw=1.2, label=labels[1])
         if held is not None and name in held:
@@ -380,9 +381,8 @@ def comparison_figure(times, measured: dict, simulated: dict, *, held: dict | No
                     label="held at start")
         heading = name
         if scores and name in scores:
-            unit = "deg" if name in ("roll", "pitch", "yaw") else "m"
-            heading = f"{name}: RMSE {scores[name]:.3g} {unit}"
-        _style(ax, heading, _SIGNAL_LABELS[name])
+            heading = f"{name}: RMSE {scores[name] * (1.0 if angle else scale):.3g} {unit}"
+        _style(ax, heading, _SIGNAL_LABELS[name].format(unit))
     for ax in axes[len(names):]:
         ax.set_visible(False)
     if title:

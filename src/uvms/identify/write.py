@@ -31,21 +31,43 @@ def fitted_model_text(identification, base_source, name: str, destination, *, lo
         raise UvmsInputError(f"identify: expected the starting model to come from a model YAML file, got {base}; "
                              f"write a model YAML with a urdf: key for it")
     data = read_yaml_mapping(base, "a model file")
-    data["name"] = name
-    if isinstance(data.get("urdf"), str) and not os.path.isabs(data["urdf"]):
-        target = (base.parent / data["urdf"]).resolve()
-        data["urdf"] = os.path.relpath(target, Path(destination).absolute().parent)
-    identified = dict(data.get("identified") or {})
-    parameters = dict(identified.get("parameters") or {})
+    parameters = dict((data.get("identified") or {}).get("parameters") or {})
     parameters.update({p.name: float(v) for p, v in zip(identification.parameters, identification.values)})
     record = identification.to_dict()
     record["starting_model"] = str(base.name)
     if logs:
         record["logs"] = [str(x) for x in logs]
-    data["identified"] = {"parameters": parameters, "record": record}
+    return model_file_text(base, data, name, destination, parameters, record)
+
+
+def model_file_text(base: Path, data: dict, name: str, destination, parameters: dict, record: dict) -> str:
+    """The starting model file ``base`` (its content ``data``) as a new model file at ``destination`` named
+    ``name`` with ``identified: {parameters, record}``. The starting file's text, comments (the sources of its
+    numbers) included, is kept line for line, with its top-level ``name:`` and a relative ``urdf:`` line
+    replaced; a file that already has an ``identified:`` block, or whose ``name:`` is not one line, is written
+    from its data instead (comments lost, said in the header)."""
+    import re
+
+    urdf = data.get("urdf")
+    if isinstance(urdf, str) and not os.path.isabs(urdf):
+        urdf = os.path.relpath((base.parent / urdf).resolve(), Path(destination).absolute().parent)
+    block = yaml.safe_dump({"identified": {"parameters": parameters, "record": record}}, sort_keys=False,
+                           width=110, default_flow_style=None)
     header = (f"# {name}: {base.name} with parameters identified from logs by uvms identify\n"
               f"# (identified.record says how, on which logs, and how well; docs/logs.md, \"Identification\").\n")
-    return header + yaml.safe_dump(data, sort_keys=False, width=110, default_flow_style=None)
+    text = base.read_text(encoding="utf-8")
+    lines = text.splitlines()
+    names = [k for k, line in enumerate(lines) if re.match(r"name:\s*\S", line)]
+    urdfs = [k for k, line in enumerate(lines) if re.match(r"urdf:\s*\S", line)]
+    if "identified" not in data and len(names) == 1 and len(urdfs) == (1 if "urdf" in data else 0):
+        lines[names[0]] = f"name: {yaml.safe_dump(name, default_style=None).splitlines()[0]}"
+        if urdfs:
+            lines[urdfs[0]] = f"urdf: {yaml.safe_dump(urdf).splitlines()[0]}"
+        return header + "\n".join(lines) + "\n\n" + block
+    data = {**data, "name": name, **({"urdf": urdf} if urdf is not None else {})}
+    data.pop("identified", None)
+    return (header + f"# (written from {base.name}'s data: its comments are in that file)\n"
+            + yaml.safe_dump(data, sort_keys=False, width=110, default_flow_style=None) + block)
 
 
 def write_fitted_model(identification, base_source, path, *, name: str | None = None, logs=(), named: bool = True,
