@@ -3,7 +3,7 @@
 Each ``plot_*`` function draws one panel onto a given ``Axes`` from a run's table (the pandas DataFrame of
 ``result.csv``, column names as in :meth:`uvms.sim.result.Result.columns`) and returns the ``Axes``;
 :func:`timeseries_figure` assembles them. Angles are drawn in degrees for the vehicle and radians for the
-joints; world frame x north, y east, z down.
+joints; world axes as the run's frame convention says (x north, y east, z down for `ned`; x, y, z up for `enu`).
 """
 
 from __future__ import annotations
@@ -110,7 +110,7 @@ def controller_columns(table) -> list[str]:
 def plot_vehicle_position(ax: Axes, table) -> Axes:
     """Vehicle position x, y, z in the world frame [m, or mm when it stays within :data:`SMALL_LENGTH`]."""
     scale, unit = length_unit(*(table[f"{a}_m"] for a in "xyz"))
-    for axis, label in zip("xyz", ("x (north)", "y (east)", "z (down)")):
+    for axis, label in zip("xyz", _POSITION_LABELS[_frame(table)]):
         ax.plot(table["t_s"], table[f"{axis}_m"] * scale, label=label)
     return _style(ax, "Vehicle position (world frame)", f"position [{unit}]")
 
@@ -139,16 +139,23 @@ def plot_joint_torques(ax: Axes, table) -> Axes:
 
 
 def plot_end_effector_path(ax: Axes, table) -> Axes:
-    """End-effector path in the world X-Y plane (the paper's Figure 4) as a map, east right and north up
-    (:func:`draw_path`), with the vehicle centre's path; start (circle), end (square), direction (arrows)."""
+    """End-effector path in the world X-Y plane (the paper's Figure 4) as a map seen from above, with the
+    vehicle centre's path; start (circle), end (square), direction (arrows). A z-down (``ned``) run is drawn
+    east right and north up (:func:`draw_path`); a z-up (``enu``) run x right and y up, which is the same view
+    from above of its own right-handed axes."""
     scale, unit = length_unit(table["ee_x_m"], table["ee_y_m"], table["x_m"], table["y_m"])
-    draw_path(ax, table["ee_x_m"] * scale, table["ee_y_m"] * scale, color="tab:blue", label="end effector")
-    draw_path(ax, table["x_m"] * scale, table["y_m"] * scale, color="tab:gray", line={"linestyle": "--"},
-              label="vehicle centre", arrows=1)
+    ned = _frame(table) == "ned"
+    for (x, y), style in ((("ee_x_m", "ee_y_m"), dict(color="tab:blue", label="end effector")),
+                          (("x_m", "y_m"), dict(color="tab:gray", line={"linestyle": "--"}, label="vehicle centre",
+                                                arrows=1))):
+        vertical, horizontal = (table[x], table[y]) if ned else (table[y], table[x])
+        draw_path(ax, vertical * scale, horizontal * scale, **style)
     ax.plot([], [], "o", color="0.3", markerfacecolor="white", label="start")
     ax.plot([], [], "s", color="0.3", label="end")
     ax.set_aspect("equal", adjustable="datalim")
-    return _style(ax, "End-effector path (world X-Y plane)", f"X (north) [{unit}]", xlabel=f"Y (east) [{unit}]")
+    if ned:
+        return _style(ax, "End-effector path (world X-Y plane)", f"X (north) [{unit}]", xlabel=f"Y (east) [{unit}]")
+    return _style(ax, "End-effector path (world X-Y plane, z up)", f"Y [{unit}]", xlabel=f"X [{unit}]")
 
 
 def plot_commanded_forces(ax: Axes, table) -> Axes:
@@ -292,6 +299,15 @@ def check_drawable(table, source: str | None = None) -> None:
     if not np.any(np.isfinite(values) & (np.abs(np.nan_to_num(values)) <= DRAW_LIMIT)):
         raise UvmsInputError(f"nothing to draw: every value of {', '.join(columns)} is NaN, infinite or beyond "
                              f"{DRAW_LIMIT:g}", source)
+
+
+def _frame(table) -> str:
+    """The frame convention of a run's table (``table.attrs["frame"]``, set from the run's metadata; ``ned``
+    for older runs)."""
+    return table.attrs.get("frame", "ned") if hasattr(table, "attrs") else "ned"
+
+
+_POSITION_LABELS = {"ned": ("x (north)", "y (east)", "z (down)"), "enu": ("x", "y", "z (up)")}
 
 
 def timeseries_figure(table, *, title: str | None = None) -> Figure:

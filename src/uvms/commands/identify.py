@@ -137,6 +137,8 @@ def _print(result, output: Path) -> None:
     from rich.table import Table
 
     console = Console()
+    if not console.is_terminal:                 # a log file: wide enough for parameter names and bounds
+        console = Console(width=140)
     table = Table(title=f"identified ({result.evaluations} evaluations, {result.wall_time_s:.0f} s): "
                         f"{'converged' if result.converged else 'NOT CONVERGED, best point kept'}")
     for column in ("parameter", "initial", "fitted", "std", "unit", "bounds"):

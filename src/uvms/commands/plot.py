@@ -32,6 +32,7 @@ def run(args: argparse.Namespace) -> int:
     check_result_files(directory)          # sizes and nesting first: refused before pandas is imported
     table = load_result_table(directory)
     summary = load_result_summary(directory)
+    table.attrs["frame"] = (summary.get("metadata") or {}).get("frame", "ned")
     check_drawable(table, str(directory / "result.csv"))
     output = check_figure_path(args.output if args.output else directory / "timeseries.png", "--output")
     record = check_file_output(output, "--output", named=args.output is not None, force=args.force)

@@ -179,7 +179,9 @@ class Result:
         """The time series as a pandas DataFrame (one column per labelled series)."""
         import pandas as pd
 
-        return pd.DataFrame(self.columns())
+        table = pd.DataFrame(self.columns())
+        table.attrs["frame"] = self.metadata.get("frame", "ned")
+        return table
 
     def summary(self) -> dict[str, Any]:
         """Peaks, final state and run health (JSON-ready); the numbers are :mod:`uvms.sim.metrics`' named
