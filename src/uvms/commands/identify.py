@@ -65,7 +65,6 @@ def run(args: argparse.Namespace) -> int:
     from uvms.model.parameters import parameter
     from uvms.output import check_file_output, default_file_name
     from uvms.replays import plan
-    from uvms.replays.run import in_log_frame
 
     model = load_model(args.model)
     fit_names = [p for p in (s.strip() for s in args.fit.split(",")) if p]
@@ -86,16 +85,12 @@ def run(args: argparse.Namespace) -> int:
         raise UvmsInputError("is both fitted and held out", str(sorted(both)[0]), "--held-out")
     step = {"step": args.step} if args.step is not None else {}
     logs = [Log.load(p) for p in fitted_paths + held_paths]
-    frames = sorted({log.frame for log in logs})
-    if len(frames) > 1:
-        raise UvmsInputError(f"expected logs in one frame convention, found {' and '.join(frames)}", None, "LOG")
-    simulated = in_log_frame(model, logs[0])           # fitted in the logs' frame, written in the model's
-    experiments = [plan(simulated, log, **step) for log in logs[:len(fitted_paths)]]
-    held_out = [plan(simulated, log, **step) for log in logs[len(fitted_paths):]]
-    with _Progress(args.max_evaluations) as progress:
-        result = identify(simulated, experiments, fit_names, held_out=held_out, signals=signals,
+    experiments = [plan(model, log, **step) for log in logs[:len(fitted_paths)]]
+    held_out = [plan(model, log, **step) for log in logs[len(fitted_paths):]]
+    with _Progress(args.max_evaluations) as progress:           # fitted in the logs' frame, reported in the model's
+        result = identify(model, experiments, fit_names, held_out=held_out, signals=signals,
                           max_evaluations=args.max_evaluations, threads=args.threads, progress=progress)
-    write_fitted_model(result.in_frame(model.convention, logs[0].frame), model.source, output,
+    write_fitted_model(result, model.source, output,
                        logs=[log_name(p) for p in fitted_paths + held_paths], named=args.output is not None,
                        force=args.force)
     _print(result, output)

@@ -30,7 +30,7 @@ import numpy as np
 
 from uvms.errors import UvmsInputError
 from uvms.identify.experiment import DEFAULT_SCALE, SIGNALS, Experiment, difference, result_signals
-from uvms.model.parameters import MAX_PARAMETERS, Parameter, parameter, with_parameters
+from uvms.model.parameters import MAX_PARAMETERS, Parameter, frame_sign, parameter, with_parameters
 
 MAX_EXPERIMENTS = 200
 """Most experiments (fitted and held out) of one identification."""
@@ -243,6 +243,9 @@ def identify(model, experiments: Sequence[Experiment], parameters: Sequence[str]
         options: a :class:`FitOptions`, or its fields as keywords (``signals=``, ``scale=``, ``bounds=``,
             ``loss=``, ``max_evaluations=``, ``threads=``).
         progress: ``progress(evaluations, cost)`` after each evaluation.
+
+    The experiments may be in either frame convention (all in one): the model is fitted in theirs and the
+    values, bounds and fitted model are reported in the model's own (:func:`uvms.model.parameters.frame_sign`).
     """
     from scipy.optimize import least_squares
 
@@ -257,6 +260,12 @@ def identify(model, experiments: Sequence[Experiment], parameters: Sequence[str]
     if len(experiments) + len(held_out) > MAX_EXPERIMENTS:
         raise UvmsInputError(f"identify: expected at most {MAX_EXPERIMENTS} experiments, got "
                              f"{len(experiments) + len(held_out)}")
+    conventions = sorted({e.frame for e in experiments + held_out})
+    if len(conventions) > 1:
+        raise UvmsInputError(f"identify: expected experiments in one frame convention, found "
+                             f"{' and '.join(conventions)}")
+    own, frame = model.convention, conventions[0]
+    model = model.in_frame(frame)                  # fitted in the experiments' convention, reported in the model's
     names = {e.name for e in experiments}
     overlap = sorted(names & {e.name for e in held_out})
     if overlap:
@@ -276,8 +285,10 @@ def identify(model, experiments: Sequence[Experiment], parameters: Sequence[str]
         p = parameter(model, name, "--fit")
         if any(q.name == p.name for q in params):
             raise UvmsInputError(f"--fit: parameter {p.name!r} given twice")
-        b = (Bounds(*map(float, bounds[p.name])) if bounds and p.name in bounds else given) \
-            or default_bounds(p, p.value(model))
+        b = Bounds(*map(float, bounds[p.name])) if bounds and p.name in bounds else given
+        if b is not None and frame_sign(p, own, frame) < 0:      # given in the model's convention
+            b = Bounds(-b.upper, -b.lower)
+        b = b or default_bounds(p, p.value(model))
         if not b.lower < b.upper:
             raise UvmsInputError(f"--fit {p.name}: expected lower < upper, got {b.lower:g}, {b.upper:g}")
         params.append(p)
@@ -340,12 +351,17 @@ def identify(model, experiments: Sequence[Experiment], parameters: Sequence[str]
                      if min(v - lo, hi - v) <= 1e-3 * (hi - lo))
     fitted = model_at(x)
     scores = _scores(model, fitted, experiments, held_out, signals, threads)
-    return Identification(
+    result = Identification(
         parameters=tuple(params), initial=x_initial, values=x, std=std_white * inflation, std_white=std_white,
         correlation=correlation, bounds=tuple(box), at_bound=at_bound, converged=bool(solution.status > 0),
         message=str(solution.message), evaluations=int(solution.nfev), cost=(0.5 * float(r_start @ r_start),
                                                                               0.5 * float(r @ r)),
         scores=scores, model=fitted, signals=signals, wall_time_s=_time.perf_counter() - wall0)
+    if own == frame:
+        return result
+    from dataclasses import replace as replace_dataclass
+
+    return replace_dataclass(result.in_frame(own, frame), model=fitted.in_frame(own))
 
 
 def _ar1_factor(r: np.ndarray, pieces: int) -> float:
