@@ -173,8 +173,10 @@ class AxisKinematics:
 def axis_kinematics(state, position_desired: np.ndarray, yaw_desired: float) -> AxisKinematics:
     """Errors, rates and velocities of the surge, sway and yaw axes for a constant desired pose."""
     R, table = kernels.kinematics_buffers()
+    # the desired position copied (writeable even when the caller's is read-only, a state's position): one
+    # compiled signature, the one precompiled
     kernels.axis_kinematics_into(state.quaternion, state.position, state.nu,
-                                 np.asarray(position_desired, dtype=float), float(yaw_desired), R, table)
+                                 np.array(position_desired, dtype=float), float(yaw_desired), R, table)
     table.flags.writeable = False
     return AxisKinematics(table)
 
