@@ -3,8 +3,25 @@
 numba compiles a kernel the first time it is called with a given set of argument types and keeps the machine
 code in its cache (:mod:`uvms._cache`). The types do not depend on the numbers (a model of any size, any
 duration, any controller gain gives the same types), so a few milliseconds of every kind of run compile
-everything a real run needs: :func:`workloads` lists them, each a short run of a bundled scenario, of the
-Python API, of the batch and step APIs and of the Gymnasium environment.
+everything a real run needs: :func:`workloads` lists them, each a short run of
+
+- every bundled scenario, and every controller on the paper model (ideal and thruster actuation) and on the
+  BlueROV2 Heavy + Alpha 5 (its thrusters);
+- the Python API on both bundled models: forward and inverse dynamics, mass matrix, bias forces, hydrodynamic
+  wrenches, poses, linearisation, trim, a simulation and a prescribed joint motion (``uvms.JointMotion``);
+- the batch and step APIs (``uvms.rollout``, ``uvms.Simulator``), the Gymnasium environments, the thruster
+  curves of ``uvms thruster-curve``;
+- the compiled code called from Python outside a run ("python paths"): the dynamics of a ``State.trusted`` and
+  of read-only torques, energy and momentum, a joint trajectory evaluated, the sliding-mode axis kinematics,
+  and the adaptive (``solve_ivp``) integrator;
+- the kernels that code may call itself ("kernels called directly": the spatial-algebra, hydrodynamic and
+  thruster kernels, the thrust allocation's fast path, the dynamics on a ``ModelData``, the event schedule)
+  with the argument types of a call from Python: C-ordered float64 arrays, Python floats and bools.
+
+numba compiles one signature per combination of argument types, and a read-only array is another type than a
+writeable one: the API passes the kernels one kind where it can (``Dynamics`` hands them a read-only state
+vector and writeable inputs), and the workloads call each entry point with every kind a real run gives it. What
+the test suite compiles besides (its own small kernels) is left to compile at first use.
 
 ``python -m uvms.precompile [--into FOLDER] [--jobs N]`` runs them in ``N`` processes (default: the number of
 cores, at most 2), each one writing into the same cache. With ``--into FOLDER`` the cache is
@@ -129,6 +146,82 @@ def _thrusters() -> None:
     step_responses(params, default_voltages(params)[:2], duration=SHORT)
 
 
+def _python_paths() -> None:
+    """What is compiled from Python outside the compiled loop: the dynamics of a ``State.trusted`` and of
+    read-only torques, the energy and momentum of :mod:`uvms.dynamics.energy`, a joint trajectory evaluated
+    (``JointTrajectory(t)``), the sliding-mode axis kinematics of :mod:`uvms.control.smc`, and the adaptive
+    integrator (``solve_ivp``: the state derivative and the loop's event schedule, from Python)."""
+    import numpy as np
+
+    import uvms
+    from uvms.control.arm import JointTrajectory
+    from uvms.control.smc import axis_kinematics
+    from uvms.dynamics.energy import kinetic_energy, potential_energy, spatial_momentum
+
+    model = uvms.load_model("paper")
+    n = model.n_joints
+    state = uvms.State.from_euler(model, euler=[0.1, 0.2, 0.3], nu=np.full(6, 0.1), q=np.full(n, 0.1))
+    trusted = uvms.State.trusted(*(np.array(getattr(state, k)) for k in ("position", "quaternion", "nu", "q", "qd",
+                                                                          "actuator")))
+    read_only = np.zeros(n)
+    read_only.flags.writeable = False
+    for s in (state, trusted):
+        acc = uvms.forward_dynamics(model, s, joint_torques=read_only)
+        uvms.inverse_dynamics(model, s, nu_dot=acc.nu_dot, qdd=acc.qdd)
+    kinetic_energy(model, state)
+    potential_energy(model, state)
+    spatial_momentum(model, state)
+    JointTrajectory([0.0, SHORT], np.full((2, n), 0.1))(0.5 * SHORT)
+    kinematics = axis_kinematics(state, np.zeros(3), 0.0)
+    kinematics.accelerations(np.zeros(6), "body_velocity")
+    uvms.simulate(model, duration=SHORT, step=1e-3, integrator="RK45")
+
+
+def _kernels_called_directly() -> None:
+    """The compiled kernels that code may call itself (the spatial-algebra and hydrodynamic helpers, the
+    thruster models, the thrust allocation's fast path, the dynamics on a ``ModelData``, the loops' event
+    schedule), with C-ordered float64 arrays and Python floats and bools: the types a call from Python gives
+    them (a kernel's callers inside the compiled code give others, compiled with them)."""
+    import numpy as np
+
+    import uvms
+    from uvms.dynamics import blocks
+    from uvms.dynamics.plant import forward_into, model_data
+    from uvms.hydro.buoyancy import buoyancy_force
+    from uvms.hydro.drag import link_drag_force, vehicle_drag_force
+    from uvms.hydro.fossen import fossen_damping_force
+    from uvms.sim.plan import events
+    from uvms.thrusters.allocation import allocate_pinv
+    from uvms.thrusters.first_order import FirstOrderParameters, first_order_rk4_step
+    from uvms.thrusters.healey import HealeyParameters, healey_bank_derivatives
+    from uvms.thrusters.table import t200_table, table_rk4_step
+
+    v3, v6, out6, eye3, eye6, L = np.zeros(3), np.ones(6), np.zeros(6), np.eye(3), np.eye(6), np.zeros((6, 6))
+    blocks.crm_mul(v6, v6, out6)
+    blocks.crf_mul_add(v6, v6, 2.0, out6)
+    blocks.plucker(eye3, v3, L)
+    blocks.congruence_add_plucker(eye3, v3, eye6, L, np.zeros((6, 6)))
+    blocks.transform_motion(eye3, v3, v6, out6)
+    blocks.transform_force_add(eye3, v3, v6, out6)
+    blocks.cholesky_factor(eye6, L)
+    blocks.cholesky_solve(L, v6, out6)
+    blocks.cholesky_solve6(eye6, v6, L, out6)
+    buoyancy_force(1.0, v3, v3, v3, out6)
+    link_drag_force(1.0, 1.0, v6, out6)
+    vehicle_drag_force(v3, v3, v6, out6)
+    fossen_damping_force(eye6, eye6, v3, v6, out6)
+    allocate_pinv(np.zeros((4, 6)), v6, -np.ones(4), np.ones(4), np.zeros(4))
+    first_order_rk4_step(FirstOrderParameters().as_array(), 0.0, 1.0, 1e-3)
+    table_rk4_step(t200_table(time_constant=0.05).as_array(), 0.0, 1500.0, 1e-3)
+    bank, z2 = np.stack([HealeyParameters().as_array()] * 2), np.zeros(2)
+    healey_bank_derivatives(bank, z2, z2, z2, np.empty(2), np.empty(2), np.empty(2))
+    list(events(10, (3, 0), [5]))         # the loops' event schedule, stepped from Python
+    model = uvms.load_model("paper")
+    n = model.n_joints
+    forward_into(model_data(model), np.eye(3), np.zeros(6), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(6),
+                 np.zeros(6), np.zeros(3), np.zeros(3), False, np.zeros(6), np.zeros(n))
+
+
 def workloads() -> dict[str, Callable[[], None]]:
     """Every kind of run, by name (module docstring); each compiles what it reaches."""
     return {
@@ -140,7 +233,9 @@ def workloads() -> dict[str, Callable[[], None]]:
         "python api": _api,
         "batch and step": _batch,
         "gymnasium": _gym,
+        "python paths": _python_paths,            # (listed so that --jobs 2 gives them to the shorter share)
         "thrusters": _thrusters,
+        "kernels called directly": _kernels_called_directly,
     }
 
 

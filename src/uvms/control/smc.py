@@ -166,15 +166,17 @@ class AxisKinematics:
         """Time derivatives of :meth:`rates` for a body acceleration ``nu_dot = [omega_dot; v_dot]`` (6,):
         ``(u_dot, v_dot, r_dot)``, or ``(e_ddot_x, e_ddot_y, psi_ddot)`` (module docstring)."""
         out = np.zeros(3)
-        kernels.axis_accelerations(self.table, np.asarray(nu_dot, dtype=float), surface == "body_velocity", out)
+        kernels.axis_accelerations(self.table, np.array(nu_dot, dtype=float), surface == "body_velocity", out)
         return out
 
 
 def axis_kinematics(state, position_desired: np.ndarray, yaw_desired: float) -> AxisKinematics:
     """Errors, rates and velocities of the surge, sway and yaw axes for a constant desired pose."""
     R, table = kernels.kinematics_buffers()
+    # the desired position copied (writeable even when the caller's is read-only, a state's position): one
+    # compiled signature, the one precompiled (uvms.precompile); nu_dot likewise in accelerations()
     kernels.axis_kinematics_into(state.quaternion, state.position, state.nu,
-                                 np.asarray(position_desired, dtype=float), float(yaw_desired), R, table)
+                                 np.array(position_desired, dtype=float), float(yaw_desired), R, table)
     table.flags.writeable = False
     return AxisKinematics(table)
 

@@ -47,13 +47,14 @@ _PER_JOINT = " (one per joint)"
 
 
 def _read(value, size: int, name: str, what: str) -> np.ndarray:
-    """An input the kernel only reads: a C-ordered float64 array of the right shape is used as it is (no copy;
-    its values are checked only if the result is not finite, :meth:`Dynamics.forward`), anything else is
-    converted and checked by :func:`uvms.checks.vector`."""
+    """An input the kernel only reads: a writeable C-ordered float64 array of the right shape is used as it is
+    (no copy; its values are checked only if the result is not finite, :meth:`Dynamics.forward`), anything else
+    (a read-only array included: numba compiles read-only arrays as another type) is converted and checked by
+    :func:`uvms.checks.vector`."""
     if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (size,) \
-            and value.flags.c_contiguous:
+            and value.flags.c_contiguous and value.flags.writeable:
         return value
-    return checks.vector(value, size, name, what)
+    return checks.vector(value, size, name, what)     # a read-only array too: numba would compile it apart
 
 
 _WRENCH = " [moment; force]"
@@ -126,6 +127,7 @@ class Dynamics:
         x = state._packed
         if x is None:                                   # a State.trusted of separate arrays
             x = np.concatenate((state.position, state.quaternion, state.nu, state.q, state.qd))
+            x.flags.writeable = False                   # typed as a packed state is: one compiled signature
         return x
 
     def _inputs(self, first: np.ndarray | None, middle, ee_wrench, current, fluid_acceleration) -> np.ndarray:
