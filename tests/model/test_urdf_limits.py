@@ -56,9 +56,12 @@ def test_a_model_at_the_link_limit_loads_in_linear_time(tmp_path):
     for n in (250, urdf_module.MAX_LINKS):
         path = tmp_path / f"chain{n}.urdf"
         path.write_text(_chain(n))
-        start = time.perf_counter()
-        model = uvms.load_model(path)
-        times[n] = time.perf_counter() - start
+        runs = []
+        for _ in range(3):           # the fastest of three: a test running beside it (pytest-xdist) only slows one
+            start = time.perf_counter()
+            model = uvms.load_model(path)
+            runs.append(time.perf_counter() - start)
+        times[n] = min(runs)
         assert len(model.body_names) == n
     assert times[urdf_module.MAX_LINKS] < 15.0
     assert times[urdf_module.MAX_LINKS] < 4 * times[250] * 2.5     # linear (x4 links), with slack for noise
