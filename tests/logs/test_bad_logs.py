@@ -131,3 +131,15 @@ def test_a_description_that_is_not_a_mapping(tmp_path):
     with pytest.raises(UvmsInputError, match=r"log.yaml: expected a mapping of log description fields at the top "
                                              r"level, found a list"):
         Log.load(path)
+
+
+@pytest.mark.parametrize("name, expected", [
+    ("../pose.csv", "is outside"), ("~/pose.csv", "relative to"), ("/etc/passwd", "relative to")])
+def test_a_stream_file_outside_the_descriptions_folder_is_refused_unread(tmp_path, name, expected):
+    inner = tmp_path / "inner"
+    inner.mkdir()
+    write_csv(tmp_path / "pose.csv", POSE_HEADER, GOOD_ROWS)               # exists, but outside the folder
+    path = write_log(inner, {"frame": "ned", "pose": {"file": name, **POSE_XYZW}})
+    with pytest.raises(UvmsInputError, match=expected) as error:
+        Log.load(path)
+    assert "pose.file" in str(error.value) and "\n" not in str(error.value)

@@ -222,7 +222,11 @@ def test_scenario_files_inline_and_table(tmp_path):
                              "unknown joint 'wrist'"),
            "both forms": ("{file: logs/trial.csv, times: [0, 1], angles: [[0, 0, 0], [0, 0, 0]]}", "either file"),
            "times": ("{times: [0, 1, 0.5], angles: [[0, 0, 0], [0, 0, 0], [0, 0, 0]]}", "increasing times"),
-           "short": ("{times: [0, 0.2], angles: [[0, 0, 0], [0, 0, 0]]}", "covering the duration")}
+           "short": ("{times: [0, 0.2], angles: [[0, 0, 0], [0, 0, 0]]}", "covering the duration"),
+           "outside": ("{file: ../trial.csv, time: time_s, columns: {joint1: j1, joint2: j2, joint3: j3}}",
+                       "is outside"),
+           "absolute": (f"{{file: {tmp_path / 'logs' / 'trial.csv'}, time: time_s, columns: {{joint1: j1}}}}",
+                        "relative to")}
     for name, (text, words) in bad.items():
         path = tmp_path / f"{name.replace(' ', '_')}.yaml"
         path.write_text(SCENARIO.format(joint_motion=text))

@@ -21,6 +21,7 @@ from pydantic import ValidationError
 
 from uvms import frames
 from uvms.errors import UvmsInputError, show
+from uvms.input_paths import data_file
 from uvms.logs import interpolate
 from uvms.logs.read import read_table
 from uvms.logs.schema import LogSpec, StreamSpec
@@ -76,8 +77,9 @@ def _unit_quaternions(q: np.ndarray, lines: np.ndarray, columns: tuple[str, ...]
     return q / norm[:, None]
 
 
-def _read_stream(key: str, spec: StreamSpec, base_dir: Path) -> Stream:
-    """Read one stream's CSV file and apply its description's conversions."""
+def _read_stream(key: str, spec: StreamSpec, base_dir: Path, source: str | None) -> Stream:
+    """Read one stream's CSV file (inside ``base_dir``, :func:`uvms.input_paths.data_file`) and apply its
+    description's conversions."""
     wanted: dict[str, tuple[str, ...]] = {}                  # part -> columns
     quaternion = getattr(spec, "quaternion_columns", lambda: None)()
     for part in _VECTORS[:1] + ("quaternion",) + _VECTORS[1:]:         # position, attitude, rates, accelerations
@@ -97,8 +99,8 @@ def _read_stream(key: str, spec: StreamSpec, base_dir: Path) -> Stream:
         label = {"quaternion": "quaternion_xyzw" if getattr(spec, "quaternion_xyzw", None) else "quaternion_wxyz",
                  "q": "columns", "qd": "rates", "commands": "columns"}.get(part, part)
         described.update({c: f"{key}.{label}" for c in columns if c not in described})
-    path = Path(spec.file).expanduser()
-    table = read_table(path if path.is_absolute() else base_dir / path, spec.time, described,
+    path = data_file(spec.file, base_dir, source, f"{key}.file")
+    table = read_table(path, spec.time, described,
                        time_scale=spec.time_scale, time_offset=spec.time_offset)
     parts = {part: np.array([table.values[c] for c in columns]).T.reshape(table.time.size, len(columns))
              for part, columns in wanted.items()}
@@ -195,7 +197,7 @@ class Log:
         except ValidationError as exc:
             raise validation_input_error(exc, source, schema=LogSpec) from None
         base = Path(base_dir) if base_dir is not None else Path.cwd()
-        streams = {key: _read_stream(key, stream, base) for key, stream in spec.streams().items()}
+        streams = {key: _read_stream(key, stream, base, source) for key, stream in spec.streams().items()}
         start, duration = _interval(spec, streams, source)
         return cls(spec=spec, source=source, frame=spec.frame, start=start, duration=duration, streams=streams)
 

@@ -237,11 +237,13 @@ def build_joint_motion(spec: JointMotionSpec, scenario: Scenario, source: str | 
 
     field = "inputs.joint_motion"
     options = {"boundary": spec.boundary, "smoothing": spec.smoothing}
+    if spec.file is not None:
+        from uvms.input_paths import data_file
+
+        path = data_file(spec.file, Path(source).parent if source is not None else Path.cwd(), source,
+                         f"{field}.file")
     try:
         if spec.file is not None:
-            path = Path(spec.file).expanduser()
-            if not path.is_absolute() and source is not None:
-                path = Path(source).parent / path
             motion = JointMotion.from_csv(path, time=spec.time, columns=dict(spec.columns), **options)
         else:
             motion = JointMotion.from_arrays(np.array(spec.times), [list(r) for r in spec.angles], joints=spec.joints,
