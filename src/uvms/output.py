@@ -357,6 +357,17 @@ def staged_directory(final, *, kind: str, option: str = "--output", force: bool 
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+def check_output_folder(path, option: str = "--output", *, kind: str, force: bool = False) -> None:
+    """:func:`check_destination` for a command's output folder (``kind`` ``"replaced folder"`` or ``"folder"``),
+    and first the rule every such folder keeps: it may not be, or contain, the working folder (even with
+    ``force``), so that no command replaces the folder it was started in."""
+    from uvms.errors import UvmsInputError
+
+    if Path(path).resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
+        raise UvmsInputError("expected a directory that does not contain the working directory", str(path), option)
+    check_destination(path, option, kind=kind, force=force)
+
+
 def check_destination(path, option: str, *, kind: str, force: bool = False) -> None:
     """Refuse, before any long computation, an output ``path`` that could never be written. Raises a one-line
     :class:`~uvms.errors.UvmsInputError` naming ``path`` and the command-line ``option``.

@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
     from uvms.logs import Log
     from uvms.logs.bundled import resolve_logs
     from uvms.model.load import load_model
-    from uvms.output import check_destination
+    from uvms.output import check_output_folder
 
     paths = resolve_logs(args.log)
     if len(paths) != 1:
@@ -55,10 +55,7 @@ def run(args: argparse.Namespace) -> int:
     if args.output == "":
         raise UvmsInputError("expected a folder name, found an empty string", None, "--output")
     out = Path(args.output) if args.output is not None else Path("replays") / paths[0].stem
-    if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
-        raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
-                             "--output")
-    check_destination(out, "--output", kind="replaced folder", force=args.force)
+    check_output_folder(out, "--output", kind="replaced folder", force=args.force)
     model = load_model(args.model)
     log = Log.load(paths[0])
     from uvms.replays import replay

@@ -39,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     """Validate, simulate, save atomically, summarise; 0 on success, 3 when the simulation diverged."""
     from rich.console import Console
 
-    from uvms.output import atomic_write_text, staged_directory
+    from uvms.output import atomic_write_text, check_output_folder, staged_directory
     from uvms.sim.scenario import load_scenario, run_scenario
 
     scenario = load_scenario(args.scenario)
@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
 
         raise UvmsInputError("expected a folder name, found an empty string", None, "--output")
     out = Path(args.output) if args.output is not None else Path("runs") / scenario.name
-    _check_output(out, force=args.force)
+    check_output_folder(out, "--output", kind="replaced folder", force=args.force)
     from uvms.control.smc import warn_controller_b_bounds
 
     warn_controller_b_bounds(scenario.next_controller())   # b bounds that miss the plant: one warning line
@@ -76,18 +76,6 @@ def run(args: argparse.Namespace) -> int:
     if health and not health["healthy"]:          # still a complete run: say it once, exit 0
         print(f"uvms: warning: {health['warning']}", file=sys.stderr)
     return 0
-
-
-def _check_output(out: Path, *, force: bool = False) -> None:
-    """Refuse an output path that holds anything but an earlier uvms run (unless ``force``), or that contains
-    the working folder (even with ``force``)."""
-    from uvms.errors import UvmsInputError
-    from uvms.output import check_destination
-
-    if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
-        raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
-                             "--output")
-    check_destination(out, "--output", kind="replaced folder", force=force)
 
 
 class _Progress:

@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     from rich.console import Console
 
     from uvms.errors import UvmsInputError
-    from uvms.output import check_destination
+    from uvms.output import check_output_folder
     from uvms.sweep.store import one_line
     from uvms.sweep import SweepStopped, load_sweep, summarize
     from uvms.sweep import run as run_sweep
@@ -71,10 +71,7 @@ def run(args: argparse.Namespace) -> int:
     workers = args.workers if args.workers is not None else _cpu_count()
     sweep = load_sweep(args.sweep)
     out = Path(args.output) if args.output else Path("sweeps") / sweep.name
-    if out.resolve() in (Path.cwd().resolve(), *Path.cwd().resolve().parents):
-        raise UvmsInputError("expected a directory that does not contain the working directory", str(out),
-                             "--output")
-    check_destination(out, "--output", kind="folder")
+    check_output_folder(out, "--output", kind="folder")
 
     if warning is not None:
         print(f"uvms: warning: {warning}", file=sys.stderr)

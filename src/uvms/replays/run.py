@@ -92,6 +92,7 @@ class Replay:
         measured, simulated, held: ``{signal: (K,)}`` of the log, the run and the no-skill prediction (the
             start value held), in the log's frame [rad, m].
         scores: the :class:`~uvms.logs.score.ReplayScores`.
+        experiment: the :class:`~uvms.identify.experiment.Experiment` that was simulated (:func:`plan`).
     """
 
     name: str
