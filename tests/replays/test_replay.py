@@ -86,3 +86,14 @@ def test_bad_logs_exit_2_and_write_nothing(own_log, tmp_path, capsys, edit, mess
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
     assert not out.exists()
+
+
+def test_the_default_folder_is_named_after_the_log_but_never_chosen_by_it(own_log, tmp_path, monkeypatch):
+    path = own_log[1]
+    monkeypatch.chdir(tmp_path)
+    assert main(["replay", "paper", str(path)]) == 0
+    assert (tmp_path / "replays" / "trial" / "comparison.json").is_file()
+    odd = path.parent / "...yaml"                       # its stem is "..": the default would be the working folder
+    odd.write_text(path.read_text())
+    assert main(["replay", "paper", str(odd)]) == 0
+    assert (tmp_path / "replays" / "replay" / "comparison.json").is_file()

@@ -47,14 +47,15 @@ def run(args: argparse.Namespace) -> int:
     from uvms.logs import Log
     from uvms.logs.bundled import resolve_logs
     from uvms.model.load import load_model
-    from uvms.output import check_output_folder
+    from uvms.output import check_output_folder, default_file_name
 
     paths = resolve_logs(args.log)
     if len(paths) != 1:
         raise UvmsInputError(f"names {len(paths)} logs; replay takes one (uvms identify takes several)", args.log)
     if args.output == "":
         raise UvmsInputError("expected a folder name, found an empty string", None, "--output")
-    out = Path(args.output) if args.output is not None else Path("replays") / paths[0].stem
+    out = Path(args.output) if args.output is not None else Path("replays") / default_file_name([paths[0].stem], "",
+                                                                                                 "replay")
     check_output_folder(out, "--output", kind="replaced folder", force=args.force)
     model = load_model(args.model)
     log = Log.load(paths[0])
