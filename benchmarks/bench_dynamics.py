@@ -12,6 +12,7 @@ Sections (each a function returning a :class:`Section`; add new ones to ``BENCHM
 * ``pinocchio``: ``pinocchio.aba`` from Python on the same rigid model (skipped without ``pin``).
 * ``mujoco``: an MJCF of the same bodies with MuJoCo's ellipsoid fluid model: ``mj_step`` (RK4) and
   ``mj_forward`` (skipped without ``mujoco``).
+* ``flow``: the RK4 step in a uniform current, a depth profile and 50-component irregular waves.
 * ``scaling``: ``aba`` against ``crba`` + ``rnea`` (bias at zero acceleration) + a dense solve, compiled, on
   random hydrodynamic chains of 3 to 48 links.
 """
@@ -32,7 +33,7 @@ import numpy as np
 from numba import njit
 
 import uvms
-from uvms.dynamics.plant import forward_into, inverse_into, mass_matrix_into, model_data
+from uvms.dynamics.plant import fluid_table, forward_into, inverse_into, mass_matrix_into, model_data
 from uvms.model.model import Model
 from uvms.rotations import quaternion_from_rotation, rotation_from_euler
 from uvms.spatial import modified_dh_pose, rotz
@@ -98,10 +99,10 @@ def python_loop(fn: Callable, *args, **kwargs) -> Callable[[int], None]:
 
 
 @njit(cache=True)
-def aba_loop(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd, calls):
+def aba_loop(md, R0, p0, nu, q, qd, tau, f_body, f_ee, flow, fixed_base, nu_dot, qdd, calls):
     """``calls`` evaluations of the articulated-body algorithm (what a compiled integrator does)."""
     for _ in range(calls):
-        forward_into(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd)
+        forward_into(md, R0, p0, nu, q, qd, tau, f_body, f_ee, flow, 0.0, fixed_base, nu_dot, qdd)
 
 
 @njit(cache=True)
@@ -132,12 +133,12 @@ def cholesky_solve(A, b, L, x):
 
 
 @njit(cache=True)
-def crba_solve_once(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+def crba_solve_once(md, R0, p0, nu, q, qd, tau, f_body, f_ee, flow, M, L, rhs, x, zero6, zero_n,
                     h0, h_tau, use_lapack):
     """``M(q) [nu_dot; qdd] = [f_body; tau] - h`` with ``M`` from CRBA and ``h`` from RNEA at zero acceleration."""
     n = q.shape[0]
     mass_matrix_into(md, q, M)
-    inverse_into(md, R0, nu, q, qd, zero6, zero_n, f_ee, v_current, a_fluid, h0, h_tau)
+    inverse_into(md, R0, p0, nu, q, qd, zero6, zero_n, f_ee, flow, 0.0, h0, h_tau)
     for k in range(6):
         rhs[k] = f_body[k] - h0[k]
     for k in range(n):
@@ -151,10 +152,10 @@ def crba_solve_once(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M,
 
 
 @njit(cache=True)
-def crba_solve_loop(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+def crba_solve_loop(md, R0, p0, nu, q, qd, tau, f_body, f_ee, flow, M, L, rhs, x, zero6, zero_n,
                     h0, h_tau, use_lapack, calls):
     for _ in range(calls):
-        crba_solve_once(md, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, M, L, rhs, x, zero6, zero_n,
+        crba_solve_once(md, R0, p0, nu, q, qd, tau, f_body, f_ee, flow, M, L, rhs, x, zero6, zero_n,
                         h0, h_tau, use_lapack)
 
 
@@ -170,20 +171,20 @@ class KernelInputs:
                                            nu=rng.normal(scale=0.3, size=6), q=rng.uniform(-1.5, 1.5, n),
                                            qd=rng.normal(scale=0.5, size=n))
         self.R0 = np.ascontiguousarray(self.state.rotation)
+        self.p0 = np.array(self.state.position)
         self.nu = np.array(self.state.nu)
         self.q = np.array(self.state.q)
         self.qd = np.array(self.state.qd)
         self.tau = rng.normal(scale=0.5, size=n)
         self.f_body = rng.normal(scale=5.0, size=6)
         self.f_ee = np.zeros(6)
-        self.v_current = np.array(model.current, dtype=float)
-        self.a_fluid = np.array(model.fluid_acceleration, dtype=float)
+        self.flow = fluid_table([0.0], [model.current], [model.fluid_acceleration])
         self.nu_dot = np.zeros(6)
         self.qdd = np.zeros(n)
 
     def aba_batch(self, calls: int) -> None:
-        aba_loop(self.md, self.R0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
-                 self.v_current, self.a_fluid, False, self.nu_dot, self.qdd, calls)
+        aba_loop(self.md, self.R0, self.p0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
+                 self.flow, False, self.nu_dot, self.qdd, calls)
 
     def crba_batch(self, use_lapack: bool) -> Callable[[int], None]:
         nd = self.model.n_dof
@@ -192,9 +193,9 @@ class KernelInputs:
         zero6, zero_n, h0, h_tau = np.zeros(6), np.zeros(nd - 6), np.zeros(6), np.zeros(nd - 6)
 
         def batch(calls: int) -> None:
-            crba_solve_loop(self.md, self.R0, self.nu, self.q, self.qd, self.tau, self.f_body, self.f_ee,
-                            self.v_current, self.a_fluid, M, L, self.rhs, self.x, zero6, zero_n, h0, h_tau,
-                            use_lapack, calls)
+            crba_solve_loop(self.md, self.R0, self.p0, self.nu, self.q, self.qd, self.tau, self.f_body,
+                            self.f_ee, self.flow, M, L, self.rhs, self.x, zero6, zero_n, h0, h_tau, use_lapack,
+                            calls)
         return batch
 
 
@@ -588,6 +589,70 @@ def bench_simulation(settings: Settings) -> Section:
     return sec
 
 
+def bench_flow(settings: Settings) -> Section:
+    """(g) the RK4 step in each kind of water (:mod:`uvms.hydro.flow`), side by side: a uniform current (the
+    step of section (f)), a depth profile, and 50-component irregular waves (Pierson-Moskowitz amplitudes,
+    Hs 0.5 m, Tp 4 s, random phases and directions, 20 m deep), on the paper model and the BlueROV2 Heavy +
+    Alpha 5, each body evaluated at its own position in every stage. Issue 27's targets: <= 1.1 x and
+    <= 1.5 x the uniform step."""
+    from types import SimpleNamespace
+
+    from uvms.dynamics.plant import build_plant, held_inputs
+    from uvms.hydro.flow import Flow
+    from uvms.sim.integrate import pack, rk4, samples
+
+    sec = Section("flow", "RK4 step in each kind of water", ["model", "water", "us per step", "x uniform"])
+    rng = np.random.default_rng(27)
+    omega = np.linspace(0.8, 4.0, 50) + rng.uniform(-0.02, 0.02, 50)
+    wp, hs = 2 * np.pi / 4.0, 0.5
+    spectrum = 5 / 16 * hs**2 * wp**4 * omega**-5 * np.exp(-1.25 * (wp / omega) ** 4)
+    amplitude = np.sqrt(2 * spectrum * np.gradient(omega))
+    k = np.array([_deep_or_finite_k(w, 20.0) for w in omega])
+    waves = SimpleNamespace(amplitude=amplitude, omega=omega, wavenumber=k, direction=rng.uniform(-0.5, 0.5, 50),
+                            phase=rng.uniform(0, 2 * np.pi, 50), water_depth=20.0)
+    profile = SimpleNamespace(depth=np.array([0.0, 2.0, 5.0, 10.0, 30.0]),
+                              velocity=np.array([[0.5, 0.1, 0], [0.4, 0.1, 0], [0.3, 0.0, 0], [0.1, 0, 0], [0, 0, 0]]))
+    current = [0.2, 0.1, 0.0]
+    waters = {"uniform": Flow.constant(current), "profile": Flow.constant(current, profile=profile),
+              "waves50": Flow.constant(current, waves=waves)}
+    for name in ("paper", "bluerov2_heavy_alpha5"):
+        model = uvms.load_model(name)
+        n = model.n_joints
+        state = uvms.State.from_euler(model, position=[0, 0, 3.0], q=np.full(n, 0.3), qd=np.full(n, 0.1))
+        x0 = pack(state)
+        batches: dict[str, Callable[[int], object]] = {}
+        for water, flow in waters.items():
+            plant, _ = build_plant(model, fluid=flow.compiled(model.convention))
+            held = held_inputs(n, 0)
+            record = samples(1, x0.size, 1 << 60)
+
+            def batch(calls: int, plant=plant, held=held, record=record) -> None:
+                x = x0.copy()
+                rk4(plant, held, x, 0.0, 1e-3, calls, 0, record)
+
+            batches[f"{name}_{water}_us"] = batch
+        times = time_side_by_side(batches, settings)
+        sec.figures.update(times)
+        base = times[f"{name}_uniform_us"]
+        for water in waters:
+            value = times[f"{name}_{water}_us"]
+            sec.figures[f"{name}_{water}_ratio"] = value / base
+            sec.rows.append([name, water, value, f"{value / base:.2f}"])
+    sec.notes.append("the three waters are timed side by side per model (batches take turns in every repeat)")
+    return sec
+
+
+def _deep_or_finite_k(omega: float, h: float) -> float:
+    """The finite-depth wave number (Newton on omega^2 = g k tanh(k h), from the deep-water value)."""
+    g = 9.81
+    k = omega**2 / g
+    for _ in range(50):
+        f = g * k * np.tanh(k * h) - omega**2
+        df = g * np.tanh(k * h) + g * k * h / np.cosh(k * h) ** 2
+        k -= f / df
+    return float(k)
+
+
 BENCHMARKS: dict[str, Callable[[Settings], Section]] = {
     "python": bench_python,
     "compiled": bench_compiled,
@@ -595,6 +660,7 @@ BENCHMARKS: dict[str, Callable[[Settings], Section]] = {
     "mujoco": bench_mujoco,
     "scaling": bench_scaling,
     "simulation": bench_simulation,
+    "flow": bench_flow,
 }
 
 

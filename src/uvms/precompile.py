@@ -98,6 +98,31 @@ def _api() -> None:
         uvms.simulate(model, duration=SHORT, step=1e-3)
         motion = uvms.JointMotion.from_arrays([0.0, 2 * SHORT], np.full((2, n), 0.1))    # a prescribed replay
         uvms.simulate(model, duration=SHORT, step=1e-3, joint_motion=motion)
+        flow = _every_flow()                     # the water of every kind: one compiled type, its branches
+        flow.at(0.0, np.zeros((2, 3)), model.convention)
+        uvms.simulate(model, duration=SHORT, step=1e-3, flow=flow)
+        uvms.simulate(model, duration=SHORT, step=1e-3, flow=flow, joint_motion=motion)
+        from uvms.dynamics.inspect import hydrodynamic_wrenches_in
+
+        hydrodynamic_wrenches_in(model, state, flow, 0.0)
+
+
+def _every_flow():
+    """A :class:`~uvms.hydro.flow.Flow` with every part (profile, field, two wave components)."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from uvms.hydro.flow import Flow
+
+    profile = SimpleNamespace(depth=np.array([0.0, 10.0]), velocity=np.array([[0.2, 0.0, 0.0], [0.0, 0.0, 0.0]]))
+    axis = np.array([-100.0, 100.0])
+    field = SimpleNamespace(x=axis, y=axis, z=axis, t=np.array([0.0]), velocity=np.zeros((1, 2, 2, 2, 3)),
+                            outside="hold")
+    waves = SimpleNamespace(amplitude=np.array([0.1, 0.05]), omega=np.array([1.5, 2.0]),
+                            wavenumber=np.array([0.25, 0.41]), direction=np.array([0.0, 0.3]),
+                            phase=np.array([0.0, 1.0]), water_depth=20.0)
+    return Flow.constant(profile=profile, field=field, waves=waves)
 
 
 def _batch() -> None:
@@ -186,7 +211,7 @@ def _kernels_called_directly() -> None:
 
     import uvms
     from uvms.dynamics import blocks
-    from uvms.dynamics.plant import forward_into, model_data
+    from uvms.dynamics.plant import fluid_table, forward_into, model_data
     from uvms.hydro.buoyancy import buoyancy_force
     from uvms.hydro.drag import link_drag_force, vehicle_drag_force
     from uvms.hydro.fossen import fossen_damping_force
@@ -218,8 +243,8 @@ def _kernels_called_directly() -> None:
     list(events(10, (3, 0), [5]))         # the loops' event schedule, stepped from Python
     model = uvms.load_model("paper")
     n = model.n_joints
-    forward_into(model_data(model), np.eye(3), np.zeros(6), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(6),
-                 np.zeros(6), np.zeros(3), np.zeros(3), False, np.zeros(6), np.zeros(n))
+    forward_into(model_data(model), np.eye(3), np.zeros(3), np.zeros(6), np.zeros(n), np.zeros(n), np.zeros(n),
+                 np.zeros(6), np.zeros(6), fluid_table([0.0], [v3], [v3]), 0.0, False, np.zeros(6), np.zeros(n))
 
 
 def workloads() -> dict[str, Callable[[], None]]:

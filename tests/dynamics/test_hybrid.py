@@ -12,7 +12,7 @@ import uvms
 from tests.conftest import random_model
 from uvms.dynamics.hybrid import aba_prescribed
 from uvms.dynamics.kernel_model import make_workspace
-from uvms.dynamics.plant import kernel_model
+from uvms.dynamics.plant import fluid_table, kernel_model
 
 
 def hybrid(model, state, qdd, *, tau=None, prescribed=None, fixed_base=False, body_wrench=None):
@@ -20,12 +20,11 @@ def hybrid(model, state, qdd, *, tau=None, prescribed=None, fixed_base=False, bo
     n = model.n_joints
     out = np.zeros(6), np.zeros(n), np.zeros(n)
     aba_prescribed(kernel_model(model), make_workspace(model.n_bodies), np.array(state.rotation, dtype=float),
-                   np.array(state.nu, dtype=float), np.array(state.q, dtype=float), np.array(state.qd, dtype=float),
+                   np.array(state.position, dtype=float), np.array(state.nu, dtype=float), np.array(state.q, dtype=float), np.array(state.qd, dtype=float),
                    np.array(qdd, dtype=float), np.zeros(n) if tau is None else np.array(tau, dtype=float),
                    np.ones(n, dtype=np.bool_) if prescribed is None else np.array(prescribed, dtype=np.bool_),
                    np.zeros(6) if body_wrench is None else np.array(body_wrench, dtype=float), np.zeros(6),
-                   np.array(model.current, dtype=float), np.array(model.fluid_acceleration, dtype=float),
-                   bool(fixed_base), *out)
+                   fluid_table([0.0], [model.current], [model.fluid_acceleration]), 0.0, bool(fixed_base), *out)
     return out
 
 

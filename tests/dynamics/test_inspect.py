@@ -41,6 +41,7 @@ def test_added_mass_terms_match_eq_2_with_the_abas_accelerations(rng):
     from uvms import spatial
     from uvms.dynamics.kernel_model import make_workspace
     from uvms.dynamics.passes import outward_pass
+    from uvms.dynamics.plant import fluid_table
 
     model = random_model(rng, 3)
     s = uvms.State.from_euler(model, euler=rng.uniform(-1, 1, 3), nu=rng.normal(size=6), q=rng.uniform(-3, 3, 3),
@@ -50,7 +51,8 @@ def test_added_mass_terms_match_eq_2_with_the_abas_accelerations(rng):
     acc = uvms.forward_dynamics(model, s, current=v_c, joint_torques=tau, body_wrench=f0)
     km = kernel_model(model)
     ws = make_workspace(model.n_bodies)
-    outward_pass(km, ws, s.rotation, np.array(s.nu), np.array(s.q), np.array(s.qd), v_c, np.zeros(3))
+    outward_pass(km, ws, s.rotation, np.array(s.position), np.array(s.nu), np.array(s.q), np.array(s.qd),
+                 fluid_table([0.0], [v_c], [np.zeros(3)]), 0.0)
     a = np.zeros((model.n_bodies, 6))
     a[0] = acc.nu_dot
     for i in range(1, model.n_bodies):

@@ -10,7 +10,7 @@ import pytest
 
 import uvms
 from uvms.dynamics.api import Dynamics, dynamics_of
-from uvms.dynamics.plant import empty_model_data, forward_into, kernel_model, model_data
+from uvms.dynamics.plant import empty_model_data, fluid_table, forward_into, kernel_model, model_data
 from uvms.errors import UvmsInputError
 
 
@@ -67,9 +67,9 @@ def test_every_path_is_the_same_arithmetic(paper, state):
     acc = Dynamics(paper).forward(state, joint_torques=tau, body_wrench=wrench)
     md = model_data(paper)
     nu_dot, qdd = np.zeros(6), np.zeros(3)
-    forward_into(md, np.ascontiguousarray(state.rotation), np.array(state.nu), np.array(state.q), np.array(state.qd),
-                 tau, wrench, np.zeros(6), np.array(paper.current, dtype=float),
-                 np.array(paper.fluid_acceleration, dtype=float), False, nu_dot, qdd)
+    forward_into(md, np.ascontiguousarray(state.rotation), np.array(state.position), np.array(state.nu),
+                 np.array(state.q), np.array(state.qd), tau, wrench, np.zeros(6),
+                 fluid_table([0.0], [paper.current], [paper.fluid_acceleration]), 0.0, False, nu_dot, qdd)
     np.testing.assert_allclose(acc.nu_dot, nu_dot, rtol=0, atol=1e-13 * (1 + np.abs(nu_dot).max()))
     np.testing.assert_allclose(acc.qdd, qdd, rtol=0, atol=1e-13 * (1 + np.abs(qdd).max()))
 

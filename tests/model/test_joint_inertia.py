@@ -22,7 +22,7 @@ from uvms.checks import joint_axis_inertia
 from uvms.cli import main
 from uvms.dynamics.aba import aba
 from uvms.dynamics.kernel_model import make_workspace
-from uvms.dynamics.plant import kernel_model
+from uvms.dynamics.plant import fluid_table, kernel_model
 from uvms.errors import UvmsInputError
 
 PAPER = yaml.safe_load(Path(str(files("uvms.model") / "models" / "paper.yaml")).read_text())
@@ -102,8 +102,9 @@ def test_the_bound_holds_for_the_articulated_inertia_the_aba_computes(rng):
         for _ in range(5):
             ws = make_workspace(model.n_bodies)
             R0 = uvms.State.from_euler(model, euler=rng.uniform(-1, 1, 3)).rotation
-            aba(kernel_model(model), ws, R0, rng.normal(size=6), rng.uniform(-3, 3, n), rng.normal(size=n), np.zeros(n),
-                np.zeros(6), np.zeros(6), np.zeros(3), np.zeros(3), False, np.zeros(6), np.zeros(n))
+            aba(kernel_model(model), ws, R0, np.zeros(3), rng.normal(size=6), rng.uniform(-3, 3, n), rng.normal(size=n),
+                np.zeros(n), np.zeros(6), np.zeros(6), fluid_table([0.0], [np.zeros(3)], [np.zeros(3)]), 0.0, False,
+                np.zeros(6), np.zeros(n))
             assert np.all(ws.d[1:] >= axis * (1 - 1e-12))
             np.testing.assert_allclose(ws.d[n], axis[-1], rtol=1e-12)
 

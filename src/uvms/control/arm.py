@@ -29,11 +29,12 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from uvms.control.kinds import COMPUTED_TORQUE, CONSTANT, PD, SCHEDULE
-from uvms.dynamics.plant import ModelData, empty_model_data, inverse_into, model_data
+from uvms.dynamics.plant import ModelData, empty_model_data, fluid_table, inverse_into, model_data
+from uvms.hydro.flow import FlowData
 from uvms.errors import UvmsInputError
 from uvms.jit import kernel
 from uvms.kinematics import normalised_rotation
-from uvms.state import JOINTS, NU, QUATERNION
+from uvms.state import JOINTS, NU, POSITION, QUATERNION
 
 @dataclass(frozen=True, eq=False)
 class JointTrajectory:
@@ -172,8 +173,7 @@ class ArmData(NamedTuple):
     kd: np.ndarray              # (n,)
     moving_base: bool           # COMPUTED_TORQUE: the measured nu enters the RNEA (else nu = 0)
     model: ModelData            # COMPUTED_TORQUE: the model of the RNEA; a dummy otherwise
-    current: np.ndarray         # (3,) that model's world current [m/s]
-    fluid_acceleration: np.ndarray  # (3,)
+    flow: FlowData              # that model's water: its uniform current and fluid acceleration
     desired: np.ndarray         # (3, n) scratch: q_d, qd_d, qdd_d
     qdd_ref: np.ndarray         # (n,) scratch
     R: np.ndarray               # (3, 3) scratch
@@ -185,12 +185,14 @@ class ArmData(NamedTuple):
 def _arm_data(kind: int, n: int, **fields) -> ArmData:
     data = dict(kind=kind, n_joints=n, constant=np.zeros(n), times=np.zeros(1), rows=np.zeros((1, n)),
                 half_step=0.0, breaks=np.zeros(0), coefficients=np.zeros((4, 0, n)), kp=np.zeros(n), kd=np.zeros(n),
-                moving_base=False, model=None, current=np.zeros(3), fluid_acceleration=np.zeros(3),
+                moving_base=False, model=None, flow=None,
                 desired=np.zeros((3, n)), qdd_ref=np.zeros(n), R=np.zeros((3, 3)), nu=np.zeros(6), f0=np.zeros(6),
                 zero6=np.zeros(6))
     data.update(fields)
     if data["model"] is None:
         data["model"] = empty_model_data()
+    if data["flow"] is None:
+        data["flow"] = fluid_table([0.0], [np.zeros(3)], [np.zeros(3)])
     return ArmData(**data)
 
 
@@ -214,8 +216,7 @@ def _tracker_data(kind, trajectory: JointTrajectory, kp, kd, *, model=None, movi
                   breaks=breaks, coefficients=coefficients, kp=np.array(kp, dtype=float),
                   kd=np.array(kd, dtype=float), moving_base=bool(moving_base))
     if model is not None:
-        fields.update(model=model_data(model), current=np.array(model.current, dtype=float),
-                      fluid_acceleration=np.array(model.fluid_acceleration, dtype=float))
+        fields.update(model=model_data(model), flow=fluid_table([0.0], [model.current], [model.fluid_acceleration]))
     return _arm_data(kind, trajectory.n_joints, **fields)
 
 
@@ -318,5 +319,5 @@ def arm_torques(arm, t, x, tau):
     for j in range(6):
         arm.nu[j] = x[NU + j] if arm.moving_base else 0.0
     normalised_rotation(x[QUATERNION:NU], arm.R)
-    inverse_into(arm.model, arm.R, arm.nu, q, qd, arm.zero6, arm.qdd_ref, arm.zero6, arm.current,
-                 arm.fluid_acceleration, arm.f0, tau)
+    inverse_into(arm.model, arm.R, x[POSITION:QUATERNION], arm.nu, q, qd, arm.zero6, arm.qdd_ref, arm.zero6, arm.flow,
+                 0.0, arm.f0, tau)

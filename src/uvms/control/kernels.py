@@ -30,7 +30,8 @@ from uvms.control import sliding_kernels as sk
 from uvms.control.imu import ImuData, ImuParameters, imu_data, imu_measure
 from uvms.control.kinds import AB, NE, NONE, SLIDING
 from uvms.dynamics.blocks import cholesky_factor, cholesky_solve
-from uvms.dynamics.plant import ModelData, empty_model_data, forward_into, inverse_into, mass_matrix_into
+from uvms.dynamics.plant import ModelData, empty_model_data, fluid_table, forward_into, inverse_into, mass_matrix_into
+from uvms.hydro.flow import FlowData
 from uvms.jit import block, kernel
 from uvms.kinematics import normalised_rotation
 from uvms.rotations import euler_zyx
@@ -70,8 +71,8 @@ class ControllerData(NamedTuple):
     integral: np.ndarray        # (6,) PID integrators per axis slot
     system: ModelData           # controller model of the whole system (AB, NE); a dummy otherwise
     vehicle: ModelData          # controller model of the vehicle alone (VEHICLE, NE); a dummy otherwise
-    current: np.ndarray         # (3,) the controller model's world current [m/s]
-    fluid_acceleration: np.ndarray  # (3,) [m/s^2]
+    flow: FlowData              # the controller model's water: a uniform current (``current``,
+                                #   ``fluid_acceleration`` options of controller_data)
     imu: ImuData                # the simulated IMU (NE; a noise-free placeholder otherwise)
     R: np.ndarray               # (3, 3) scratch: body-to-world rotation
     kin: np.ndarray             # (N_KIN_ROWS, 6) scratch: axis kinematics
@@ -128,8 +129,9 @@ def controller_data(*, kind: int, n_joints: int, period: float, axes, gains: np.
                 axes=np.array(axes, dtype=np.int64), gains=np.array(gains, dtype=float).reshape(6, N_GAINS),
                 targets=np.array(targets, dtype=float).reshape(-1, 7), captured=np.zeros(6), desired=np.zeros(6),
                 memory=np.zeros(N_MEMORY, dtype=np.int64), integral=np.zeros(6), system=None, vehicle=None,
-                current=np.zeros(3), fluid_acceleration=np.zeros(3),
                 imu=imu_data(ImuParameters(), float(period), 0), signals=np.zeros(n_signals), **_state_scratch(n))
+    current = options.pop("current", np.zeros(3))
+    fluid_acceleration = options.pop("fluid_acceleration", np.zeros(3))
     for key, value in options.items():
         if key not in data:
             raise TypeError(f"unknown ControllerData field {key!r}")
@@ -137,8 +139,7 @@ def controller_data(*, kind: int, n_joints: int, period: float, axes, gains: np.
     for key in ("system", "vehicle"):
         if data[key] is None:
             data[key] = empty_model_data()
-    for key in ("current", "fluid_acceleration"):
-        data[key] = np.array(data[key], dtype=float)
+    data["flow"] = fluid_table([0.0], [current], [fluid_acceleration])
     return ControllerData(**data)
 
 
@@ -183,10 +184,11 @@ def arm_reaction(ctrl, x, tau, a0, out):
     nu = x[NU:JOINTS]
     q = x[JOINTS:JOINTS + n]
     qd = x[JOINTS + n:JOINTS + 2 * n]
-    vc, af, zero6 = ctrl.current, ctrl.fluid_acceleration, ctrl.zero6
+    p = x[POSITION:QUATERNION]
+    flow, zero6 = ctrl.flow, ctrl.zero6
     for i in range(n):
         ctrl.qdd[i] = 0.0
-    inverse_into(ctrl.system, ctrl.R, nu, q, qd, a0, ctrl.qdd, zero6, vc, af, ctrl.f_system, ctrl.tau_scratch)
+    inverse_into(ctrl.system, ctrl.R, p, nu, q, qd, a0, ctrl.qdd, zero6, flow, 0.0, ctrl.f_system, ctrl.tau_scratch)
     if n > 0:
         mass_matrix_into(ctrl.system, q, ctrl.M)
         for i in range(n):
@@ -194,9 +196,9 @@ def arm_reaction(ctrl, x, tau, a0, out):
         L = ctrl.L[:n, :n]
         cholesky_factor(ctrl.M[6:, 6:], L)
         cholesky_solve(L, ctrl.qdd, ctrl.qdd)
-    inverse_into(ctrl.system, ctrl.R, nu, q, qd, a0, ctrl.qdd, zero6, vc, af, ctrl.f_system, ctrl.tau_scratch)
-    inverse_into(ctrl.vehicle, ctrl.R, nu, ctrl.empty, ctrl.empty, a0, ctrl.empty, zero6, vc, af, ctrl.f_vehicle,
-                 ctrl.empty)
+    inverse_into(ctrl.system, ctrl.R, p, nu, q, qd, a0, ctrl.qdd, zero6, flow, 0.0, ctrl.f_system, ctrl.tau_scratch)
+    inverse_into(ctrl.vehicle, ctrl.R, p, nu, ctrl.empty, ctrl.empty, a0, ctrl.empty, zero6, flow, 0.0,
+                 ctrl.f_vehicle, ctrl.empty)
     for j in range(6):
         out[j] = ctrl.f_vehicle[j] - ctrl.f_system[j]
 
@@ -208,16 +210,17 @@ def _predict(ctrl, x, tau, nu_dot_true):
     n = ctrl.n_joints
     nu = x[NU:JOINTS]
     if ctrl.predictor == AB:
-        forward_into(ctrl.system, ctrl.R, nu, x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], tau, ctrl.zero6,
-                     ctrl.zero6, ctrl.current, ctrl.fluid_acceleration, False, ctrl.nu_dot, ctrl.qdd)
+        forward_into(ctrl.system, ctrl.R, x[POSITION:QUATERNION], nu, x[JOINTS:JOINTS + n],
+                     x[JOINTS + n:JOINTS + 2 * n], tau, ctrl.zero6, ctrl.zero6, ctrl.flow, 0.0, False, ctrl.nu_dot,
+                     ctrl.qdd)
         return ctrl.system.work.IA[0]
     wrench = ctrl.zero6
     if ctrl.predictor == NE:
         imu_measure(ctrl.imu, nu, nu_dot_true)
         wrench = ctrl.f_hat                       # scratch for the arm's reaction (f_hat is written later)
         arm_reaction(ctrl, x, tau, ctrl.imu.out, wrench)
-    forward_into(ctrl.vehicle, ctrl.R, nu, ctrl.empty, ctrl.empty, ctrl.empty, wrench, ctrl.zero6, ctrl.current,
-                 ctrl.fluid_acceleration, False, ctrl.nu_dot, ctrl.empty)
+    forward_into(ctrl.vehicle, ctrl.R, x[POSITION:QUATERNION], nu, ctrl.empty, ctrl.empty, ctrl.empty, wrench,
+                 ctrl.zero6, ctrl.flow, 0.0, False, ctrl.nu_dot, ctrl.empty)
     return ctrl.vehicle.body.inertia_h[0]
 
 

@@ -35,10 +35,11 @@ from uvms.kinematics import JOINT_Z
 
 
 @kernel
-def aba(km, ws, R0, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd):
-    """Write ``nu_dot`` (6) and ``qdd`` (n) for the state and inputs; see the module docstring."""
+def aba(km, ws, R0, p0, nu, q, qd, tau, f_body, f_ee, flow, t, fixed_base, nu_dot, qdd):
+    """Write ``nu_dot`` (6) and ``qdd`` (n) for the state and inputs (the vehicle at ``R0``, ``p0``, in the water
+    ``flow`` at time ``t``, :func:`~uvms.dynamics.passes.outward_pass`); see the module docstring."""
     nb = km.parent.shape[0]
-    outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid)
+    outward_pass(km, ws, R0, p0, nu, q, qd, flow, t)
     apply_external(km, ws, f_body, f_ee)
 
     # -- pass 2: articulated inertias and bias forces, tip to base (Eqs. 13-14)

@@ -19,7 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from uvms import checks
-from uvms.dynamics.plant import build_plant, plant_forward, plant_inverse, plant_mass_matrix
+from uvms.dynamics.plant import build_plant, fluid_table, plant_forward, plant_inverse, plant_mass_matrix
 from uvms.state import State
 
 _SLOT = "_uvms_dynamics"
@@ -106,13 +106,15 @@ class Dynamics:
     def __init__(self, model, *, fixed_base: bool = False) -> None:
         self.model = checks.model(model)
         self.fixed_base = checks.flag(fixed_base, "fixed_base")
-        self.plant, self.data = build_plant(model, fixed_base=self.fixed_base)
+        self._env = np.array([model.current, model.fluid_acceleration], dtype=float)
+        self._flow = fluid_table([0.0], self._env[0:1], self._env[1:2])
+        """The plant's water: the model's uniform environment, its one row overwritten for a call's overrides."""
+        self.plant, self.data = build_plant(model, fixed_base=self.fixed_base, fluid=self._flow)
         n = self._n = model.n_joints
         self._zero6 = np.zeros(6)
         self._zero_n = np.zeros(n)
-        self._env = np.array([model.current, model.fluid_acceleration], dtype=float)
-        self._no_wrenches = np.concatenate([self._zero6, self._zero6, self._env[0], self._env[1]])
-        """``[body wrench | ee wrench | current | fluid acceleration]`` of a call that gives none."""
+        self._no_wrenches = np.zeros(12)
+        """``[body wrench | ee wrench]`` of a call that gives none."""
 
     def __repr__(self) -> str:
         return f"Dynamics({self.model.name!r}, {self.model.n_joints} joints, fixed_base={self.fixed_base})"
@@ -132,15 +134,22 @@ class Dynamics:
 
     def _inputs(self, first: np.ndarray | None, middle, ee_wrench, current, fluid_acceleration) -> np.ndarray:
         """Packed inputs: ``first`` (joint torques, or nu_dot and qdd), a 6-vector ``middle`` (body wrench) or
-        nothing, the end-effector wrench, current and fluid acceleration."""
+        nothing, the end-effector wrench; the current and fluid acceleration of the call (checked) into the
+        plant's one-row water table (:meth:`_restore_water` puts the model's back)."""
         parts = [first] if first is not None else []
         if middle is not False:
             parts.append(self._zero6 if middle is None else checks.vector(middle, 6, "body_wrench", _WRENCH))
         parts.append(self._zero6 if ee_wrench is None else checks.vector(ee_wrench, 6, "ee_wrench", _WRENCH))
-        parts.append(self._env[0] if current is None else checks.vector(current, 3, "current", " (world frame, m/s)"))
-        parts.append(self._env[1] if fluid_acceleration is None
-                     else checks.vector(fluid_acceleration, 3, "fluid_acceleration", " (world frame, m/s^2)"))
+        self._flow.velocity[0] = self._env[0] if current is None \
+            else checks.vector(current, 3, "current", " (world frame, m/s)")
+        self._flow.acceleration[0] = self._env[1] if fluid_acceleration is None \
+            else checks.vector(fluid_acceleration, 3, "fluid_acceleration", " (world frame, m/s^2)")
         return np.concatenate(parts)
+
+    def _restore_water(self) -> None:
+        """The model's environment back into the plant's water table (after a call with overrides)."""
+        self._flow.velocity[0] = self._env[0]
+        self._flow.acceleration[0] = self._env[1]
 
     def forward(self, state, *, joint_torques=None, body_wrench=None, ee_wrench=None, current=None,
                 fluid_acceleration=None) -> Accelerations:
@@ -155,17 +164,24 @@ class Dynamics:
         x = self._state_vector(state)
         n = self._n
         tau = self._zero_n if joint_torques is None else _read(joint_torques, n, "joint_torques", _PER_JOINT)
+        out = np.empty(6 + n)
         if body_wrench is None and ee_wrench is None and current is None and fluid_acceleration is None:
             wrenches = self._no_wrenches
+            finite = plant_forward(self.plant, 0.0, x, tau, wrenches, self.fixed_base, out)
         else:
-            wrenches = self._inputs(None, body_wrench, ee_wrench, current, fluid_acceleration)
-        out = np.empty(6 + n)
-        if not plant_forward(self.plant, x, tau, wrenches, self.fixed_base, out):
+            try:
+                wrenches = self._inputs(None, body_wrench, ee_wrench, current, fluid_acceleration)
+                water = self._flow.velocity[0].copy(), self._flow.acceleration[0].copy()
+                finite = plant_forward(self.plant, 0.0, x, tau, wrenches, self.fixed_base, out)
+            finally:
+                self._restore_water()
+        if not finite:
             if not checks.finite(tau):                  # a NaN or infinity given: name it (raises)
                 checks.vector(tau, n, "joint_torques", _PER_JOINT)
+            current, fluid_acceleration = water if wrenches is not self._no_wrenches else self._env
             raise checks.overflow("the accelerations", {
                 "state.nu": state.nu, "state.qd": state.qd, "joint_torques": tau, "body_wrench": wrenches[0:6],
-                "ee_wrench": wrenches[6:12], "current": wrenches[12:15], "fluid_acceleration": wrenches[15:18]})
+                "ee_wrench": wrenches[6:12], "current": current, "fluid_acceleration": fluid_acceleration})
         return Accelerations(out[:6], out[6:])
 
     def inverse(self, state, *, nu_dot, qdd, ee_wrench=None, current=None,
@@ -174,14 +190,18 @@ class Dynamics:
         x = self._state_vector(state)
         n = self._n
         accelerations = np.concatenate((checks.vector(nu_dot, 6, "nu_dot"), checks.vector(qdd, n, "qdd", _PER_JOINT)))
-        u = self._inputs(accelerations, False, ee_wrench, current, fluid_acceleration)
         out = np.zeros(6 + n)
-        plant_inverse(self.plant, x, u, out)
+        try:
+            u = self._inputs(accelerations, False, ee_wrench, current, fluid_acceleration)
+            water = self._flow.velocity[0].copy(), self._flow.acceleration[0].copy()
+            plant_inverse(self.plant, 0.0, x, u, out)
+        finally:
+            self._restore_water()
         total = sum(out.tolist())  # any NaN or inf makes the sum one: fast test
         if total - total != 0.0 and not checks.finite(out):
             raise checks.overflow("the wrench and torques", {
                 "state.nu": state.nu, "state.qd": state.qd, "nu_dot": u[:6], "qdd": u[6:6 + n],
-                "ee_wrench": u[6 + n:12 + n], "current": u[12 + n:15 + n], "fluid_acceleration": u[15 + n:]})
+                "ee_wrench": u[6 + n:12 + n], "current": water[0], "fluid_acceleration": water[1]})
         return out[:6], out[6:]
 
     def mass_matrix(self, state) -> np.ndarray:

@@ -18,7 +18,7 @@ from uvms import checks
 from uvms.dynamics.api import mass_matrix
 from uvms.dynamics.kernel_model import make_workspace
 from uvms.dynamics.passes import outward_pass
-from uvms.dynamics.plant import kernel_model
+from uvms.dynamics.plant import fluid_table, kernel_model
 from uvms.dynamics.poses import forward_kinematics
 
 
@@ -47,8 +47,9 @@ def spatial_momentum(model, state, *, include_added_mass: bool = False) -> np.nd
     include_added_mass = checks.flag(include_added_mass, "include_added_mass")
     km = kernel_model(model)
     ws = make_workspace(model.n_bodies)
-    outward_pass(km, ws, state.rotation, np.array(state.nu, dtype=float), np.array(state.q, dtype=float),
-                 np.array(state.qd, dtype=float), np.zeros(3), np.zeros(3))
+    outward_pass(km, ws, state.rotation, np.array(state.position, dtype=float), np.array(state.nu, dtype=float),
+                 np.array(state.q, dtype=float), np.array(state.qd, dtype=float), fluid_table([0.0], [np.zeros(3)],
+                 [np.zeros(3)]), 0.0)
     poses = forward_kinematics(model, state)
     total = np.zeros(6)
     for i in range(model.n_bodies):

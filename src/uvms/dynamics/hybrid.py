@@ -34,7 +34,7 @@ from uvms.kinematics import JOINT_Z
 
 
 @kernel
-def aba_prescribed(km, ws, R0, nu, q, qd, qdd_given, tau, prescribed, f_body, f_ee, v_current, a_fluid, fixed_base,
+def aba_prescribed(km, ws, R0, p0, nu, q, qd, qdd_given, tau, prescribed, f_body, f_ee, flow, t, fixed_base,
                    nu_dot, qdd, tau_out):
     """Hybrid dynamics (module docstring): write ``nu_dot`` (6), ``qdd`` (n; the given value at a prescribed
     joint) and ``tau_out`` (n; the torque a prescribed joint takes, the input ``tau`` at a free one).
@@ -44,7 +44,7 @@ def aba_prescribed(km, ws, R0, nu, q, qd, qdd_given, tau, prescribed, f_body, f_
     ``prescribed`` (n) booleans: which joints follow ``qdd_given``.
     """
     nb = km.parent.shape[0]
-    outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid)
+    outward_pass(km, ws, R0, p0, nu, q, qd, flow, t)
     apply_external(km, ws, f_body, f_ee)
 
     # -- pass 2: articulated inertias and bias forces, tip to base

@@ -26,7 +26,7 @@ from uvms import checks
 from uvms.dynamics.aba import aba
 from uvms.dynamics.api import environment
 from uvms.dynamics.kernel_model import ADDED_MASS, BUOYANCY, DRAG, GRAVITY, make_workspace
-from uvms.dynamics.plant import kernel_model
+from uvms.dynamics.plant import fluid_table, kernel_model
 
 CAUSES = ("added_mass_velocity", "added_mass_inertial", "fluid_acceleration", "drag", "buoyancy", "gravity")
 
@@ -62,7 +62,27 @@ class HydrodynamicWrenches:
 
 def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None, current=None,
                           fluid_acceleration=None, fixed_base=False) -> HydrodynamicWrenches:
-    """Each body's wrench by cause at ``state`` (see the module docstring)."""
+    """Each body's wrench by cause at ``state`` in a uniform current (see the module docstring)."""
+    env = environment(model, current, fluid_acceleration)
+    return _wrenches(model, state, joint_torques, body_wrench,
+                     fluid_table([0.0], [env.current], [env.fluid_acceleration]), 0.0, fixed_base)
+
+
+def hydrodynamic_wrenches_in(model, state, flow, time: float = 0.0, *, joint_torques=None, body_wrench=None,
+                             fixed_base=False) -> HydrodynamicWrenches:
+    """Each body's wrench by cause at ``state`` in the water ``flow`` (a :class:`~uvms.hydro.flow.Flow`) at
+    ``time`` [s]: each body sees the water at its own centre of buoyancy (:mod:`uvms.hydro.flow`)."""
+    from uvms.hydro.flow import Flow, check_status
+
+    if not isinstance(flow, Flow):
+        raise checks.fail("flow", f"expected a uvms.hydro.flow.Flow, got {checks.show(flow)}")
+    data = flow.compiled(model.convention)
+    out = _wrenches(model, state, joint_torques, body_wrench, data, checks.number(time, "time", unit="s"), fixed_base)
+    check_status(data)
+    return out
+
+
+def _wrenches(model, state, joint_torques, body_wrench, flow, t, fixed_base) -> HydrodynamicWrenches:
     checks.state(model, state)
     fixed_base = checks.flag(fixed_base, "fixed_base")
     n = model.n_joints
@@ -72,16 +92,14 @@ def hydrodynamic_wrenches(model, state, *, joint_torques=None, body_wrench=None,
                                         "move")
     tau = checks.optional_vector(joint_torques, n, "joint_torques", " (one per joint)")
     f_body = checks.optional_vector(body_wrench, 6, "body_wrench", " [moment; force]")
-    env = environment(model, current, fluid_acceleration)
     km = kernel_model(model)
     ws = make_workspace(model.n_bodies)
     nu_dot, qdd = np.zeros(6), np.zeros(n)
-    aba(km, ws, state.rotation, nu, np.array(state.q, dtype=float), np.array(state.qd, dtype=float), tau, f_body,
-        np.zeros(6), env.current, env.fluid_acceleration, fixed_base, nu_dot, qdd)
+    aba(km, ws, state.rotation, np.array(state.position, dtype=float), nu, np.array(state.q, dtype=float),
+        np.array(state.qd, dtype=float), tau, f_body, np.zeros(6), flow, t, fixed_base, nu_dot, qdd)
     if not checks.finite(nu_dot, qdd):
         raise checks.overflow("the accelerations", {"state.nu": nu, "state.qd": state.qd, "joint_torques": tau,
-                                                    "body_wrench": f_body, "current": env.current,
-                                                    "fluid_acceleration": env.fluid_acceleration})
+                                                    "body_wrench": f_body})
     f = ws.forces
     added_mass_fluid = np.einsum("ijk,ik->ij", km.added_mass[:, :, 3:], ws.af)       # I_A [0; a_f]
     buoyancy_fluid = np.zeros((model.n_bodies, 6))                                    # m_f a_f at b

@@ -109,6 +109,11 @@ class Workspace(NamedTuple):
     nu_c: np.ndarray    # (6,) relative velocity at a link's drag cylinder; Fossen / shape drag of one body
     f_c: np.ndarray     # (6,) drag in the cylinder's axes
     shape_work: np.ndarray  # (12,) the shape drag kernel's work array (hydro.shapes.WORK_SIZE)
+    R_world: np.ndarray     # (nb, 3, 3) body-to-world rotation (outward pass, non-uniform flows only)
+    p_world: np.ndarray     # (nb, 3) body origin in the world [m] (outward pass, non-uniform flows only)
+    point: np.ndarray       # (3,) where the water is evaluated (a body's centre of buoyancy, world) [m]
+    fluid_v: np.ndarray     # (3,) the water's velocity there, world [m/s] (hydro.flow.fluid_at)
+    fluid_a: np.ndarray     # (3,) the water's local acceleration there, world [m/s^2]
 
 
 def kernel_model_from(model) -> KernelModel:
@@ -207,5 +212,6 @@ def make_workspace(n_bodies: int) -> Workspace:
         forces=np.zeros((nb, N_FORCES, 6)), Ia=np.zeros((6, 6)), rotated=np.zeros((6, 6)), chol=np.zeros((6, 6)),
         h=np.zeros(6), pa=np.zeros(6), rhs=np.zeros(6), f_ee=np.zeros(6), no_wrench=np.zeros(6), sw=np.zeros(6),
         column=np.zeros(6), column_up=np.zeros(6), a_fluid=np.zeros(6), nu_c=np.zeros(6), f_c=np.zeros(6),
-        shape_work=np.zeros(WORK_SIZE),
+        shape_work=np.zeros(WORK_SIZE), R_world=np.zeros((nb, 3, 3)), p_world=np.zeros((nb, 3)),
+        point=np.zeros(3), fluid_v=np.zeros(3), fluid_a=np.zeros(3),
     )

@@ -24,6 +24,7 @@ from uvms.hydro.added_mass import added_mass_force
 from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
 from uvms.hydro.drag import link_drag_force, vehicle_drag_force
+from uvms.hydro.flow import fluid_at, uniform_at
 from uvms.hydro.fossen import fossen_damping_force
 from uvms.hydro.shapes import shapes_drag_force
 from uvms.jit import block
@@ -105,24 +106,59 @@ def body_hydro_forces(km, ws, i):
 
 
 @block
-def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
+def body_fluid(km, ws, flow, t, i):
+    """The water at body ``i`` (:func:`uvms.hydro.flow.fluid_at` at its centre of buoyancy ``p_i + R_i b_i``,
+    world pose ``R_i = ws.R_world[i]``, ``p_i = ws.p_world[i]``) in body axes: ``ws.vc[i] = R_i^T u_f``,
+    ``ws.af[i] = R_i^T a_f``."""
+    R = ws.R_world[i]
+    p = ws.p_world[i]
+    b = km.cob[i]
+    point = ws.point
+    for r in range(3):
+        point[r] = p[r] + R[r, 0] * b[0] + R[r, 1] * b[1] + R[r, 2] * b[2]
+    u_f = ws.fluid_v
+    a_f = ws.fluid_a
+    fluid_at(flow, t, point, u_f, a_f)
+    for k in range(3):
+        ws.vc[i, k] = R[0, k] * u_f[0] + R[1, k] * u_f[1] + R[2, k] * u_f[2]
+        ws.af[i, k] = R[0, k] * a_f[0] + R[1, k] * a_f[1] + R[2, k] * a_f[2]
+
+
+@block
+def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
     """Pass 1, base to tip: transforms, velocities, velocity products, named hydrodynamic forces
     (:func:`body_hydro_forces`) and bias forces of every body, and each joint's passive torque (damping and
     friction, :func:`passive_joint_force`) into ``ws.u``.
 
-    ``R0`` is the vehicle's body-to-world rotation, ``nu`` its body velocity ``[omega; v]``,
-    ``v_current``/``a_fluid`` the world-frame current velocity and fluid acceleration.
+    ``R0`` is the vehicle's body-to-world rotation, ``p0`` its world position, ``nu`` its body velocity
+    ``[omega; v]``, ``flow`` the water (:class:`uvms.hydro.flow.FlowData`) and ``t`` the time [s]. A uniform
+    flow (``flow.uniform_only``) is evaluated once and its world vectors rotated down the tree like gravity;
+    any other at every body's own centre of buoyancy (:func:`body_fluid`), with the body's world pose
+    ``R_i = R_p E_i^T``, ``p_i = p_p + R_p r_i`` carried along (``ws.R_world``, ``ws.p_world``).
     """
     nb = km.parent.shape[0]
     h = ws.h
+    uniform = flow.uniform_only
+    v_current = ws.fluid_v
+    a_fluid = ws.fluid_a
+    if uniform:
+        uniform_at(flow, t, v_current, a_fluid)
     for i in range(nb):
         vi = ws.v[i]
         ci = ws.c[i]
         if i == 0:                               # world vectors in vehicle axes: R^T a_g, R^T v_c, R^T a_f
             for k in range(3):
                 ws.g[0, k] = R0[0, k] * km.gravity[0] + R0[1, k] * km.gravity[1] + R0[2, k] * km.gravity[2]
-                ws.vc[0, k] = R0[0, k] * v_current[0] + R0[1, k] * v_current[1] + R0[2, k] * v_current[2]
-                ws.af[0, k] = R0[0, k] * a_fluid[0] + R0[1, k] * a_fluid[1] + R0[2, k] * a_fluid[2]
+            if uniform:
+                for k in range(3):
+                    ws.vc[0, k] = R0[0, k] * v_current[0] + R0[1, k] * v_current[1] + R0[2, k] * v_current[2]
+                    ws.af[0, k] = R0[0, k] * a_fluid[0] + R0[1, k] * a_fluid[1] + R0[2, k] * a_fluid[2]
+            else:
+                for r in range(3):
+                    ws.p_world[0, r] = p0[r]
+                    for k in range(3):
+                        ws.R_world[0, r, k] = R0[r, k]
+                body_fluid(km, ws, flow, t, 0)
             for k in range(6):
                 vi[k] = nu[k]
                 ci[k] = 0.0
@@ -148,8 +184,18 @@ def outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid):
                     vi[k] += Sw[k]
                 crm_mul(vi, Sw, ci)
             mat3_vec(E, ws.g[p], ws.g[i])
-            mat3_vec(E, ws.vc[p], ws.vc[i])
-            mat3_vec(E, ws.af[p], ws.af[i])
+            if uniform:
+                mat3_vec(E, ws.vc[p], ws.vc[i])
+                mat3_vec(E, ws.af[p], ws.af[i])
+            else:                                # R_i = R_p E_i^T, p_i = p_p + R_p r_i
+                Rp = ws.R_world[p]
+                Ri = ws.R_world[i]
+                ri = ws.r[i]
+                for r in range(3):
+                    ws.p_world[i, r] = ws.p_world[p, r] + Rp[r, 0] * ri[0] + Rp[r, 1] * ri[1] + Rp[r, 2] * ri[2]
+                    for k in range(3):
+                        Ri[r, k] = Rp[r, 0] * E[k, 0] + Rp[r, 1] * E[k, 1] + Rp[r, 2] * E[k, 2]
+                body_fluid(km, ws, flow, t, i)
         # bias force p_i = v_i x* I_i v_i - f_i^hydro and articulated inertia IA_i = I^H_i
         pA = ws.pA[i]
         mat6_vec(km.inertia[i], vi, h)

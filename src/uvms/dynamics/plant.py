@@ -9,7 +9,7 @@ Two levels, one owner:
   :func:`forward_into` (articulated-body algorithm with hydrodynamics, paper Eqs. 13-23), :func:`inverse_into`
   (recursive Newton-Euler, Featherstone Table 5.1) and :func:`mass_matrix_into` (composite rigid body).
 - :class:`Plant` is what the simulation integrates: the model data, the actuators (thruster layout), the
-  world current as a :class:`FluidTable`, the integrator's scratch, whether the vehicle is clamped, and the
+  water as a :class:`~uvms.hydro.flow.FlowData` (:mod:`uvms.hydro.flow`), the integrator's scratch, whether the vehicle is clamped, and the
   sane-state bounds. It is a numba *structure reference*: passed from Python to a compiled function it costs
   one pointer, not the ~50 arrays inside it, so Python may call the compiled code often (the step API, the
   checked :class:`Dynamics`). Inputs held between two updates travel beside it as :class:`Held`.
@@ -32,9 +32,10 @@ from uvms.dynamics.aba import aba, aba_inlined
 from uvms.dynamics.crba import crba
 from uvms.dynamics.kernel_model import KernelModel, Workspace, kernel_model_from, make_workspace
 from uvms.dynamics.rnea import rnea
+from uvms.hydro.flow import FlowData, uniform_flow_data
 from uvms.jit import kernel
 from uvms.kinematics import normalised_rotation
-from uvms.state import JOINTS, NU, QUATERNION
+from uvms.state import JOINTS, NU, POSITION, QUATERNION
 
 DEFAULT_BOUNDS = np.array([1e4, 1e3, 1e3, 1e6])
 """Sane-state limits for divergence detection: |position| [m], |nu| [rad/s, m/s], |qd| [rad/s], |actuator|."""
@@ -45,15 +46,6 @@ class ModelData(NamedTuple):
 
     body: KernelModel
     work: Workspace
-
-
-class FluidTable(NamedTuple):
-    """World-frame current velocity [m/s] and fluid acceleration [m/s^2] at ``times`` [s], linear in between
-    and held outside (a constant current is one row)."""
-
-    times: np.ndarray           # (K,)
-    velocity: np.ndarray        # (K, 3)
-    acceleration: np.ndarray    # (K, 3)
 
 
 class Held(NamedTuple):
@@ -69,7 +61,7 @@ class StepScratch(NamedTuple):
     """The integrator's scratch (never allocated inside the loop)."""
 
     R: np.ndarray               # (3, 3) body-to-world rotation of the stage's quaternion
-    vecs: np.ndarray            # (5, 6): the actuators' body wrench, current, fluid acceleration, nu
+    vecs: np.ndarray            # (5, 6): the actuators' body wrench, (unused), (unused), nu, (unused)
     thrust: np.ndarray          # (max(m, 1),) thrusts [N]
     stages: np.ndarray          # (6, N): RK4's k1..k4, the stage state, one spare derivative
 
@@ -81,7 +73,7 @@ class PlantData(NamedTuple):
     body: KernelModel
     work: Workspace
     actuators: tuple
-    fluid: FluidTable
+    fluid: FlowData
     scratch: StepScratch
     fixed_base: bool
     bounds: np.ndarray
@@ -154,18 +146,18 @@ def empty_model_data() -> ModelData:
     return ModelData(body=body, work=work)
 
 
-def fluid_table(times, velocity, acceleration) -> FluidTable:
-    """A :class:`FluidTable` of fresh C-ordered float64 arrays."""
-    return FluidTable(np.array(times, dtype=float, order="C").reshape(-1),
-                      np.array(velocity, dtype=float, order="C").reshape(-1, 3),
-                      np.array(acceleration, dtype=float, order="C").reshape(-1, 3))
+def fluid_table(times, velocity, acceleration) -> FlowData:
+    """The compiled water of a uniform current table alone (:func:`uvms.hydro.flow.uniform_flow_data`): world
+    velocity [m/s] and fluid acceleration [m/s^2] at ``times`` [s], linear between, held outside."""
+    return uniform_flow_data(np.array(times, dtype=float).reshape(-1), np.array(velocity, dtype=float).reshape(-1, 3),
+                             np.array(acceleration, dtype=float).reshape(-1, 3))
 
 
-def build_plant(model, *, thrusters: tuple = (), fluid: FluidTable | None = None, fixed_base: bool = False,
+def build_plant(model, *, thrusters: tuple = (), fluid: FlowData | None = None, fixed_base: bool = False,
                 bounds: np.ndarray = DEFAULT_BOUNDS) -> tuple[Plant, ModelData]:
-    """The :class:`Plant` of ``model`` with a thruster layout (empty: ideal body-wrench actuation), a current
-    table (default: the model's constant environment) and a clamped or free vehicle; also returns its
-    :class:`ModelData` (the same arrays, for Python-side reading)."""
+    """The :class:`Plant` of ``model`` with a thruster layout (empty: ideal body-wrench actuation), the water
+    (a :class:`~uvms.hydro.flow.FlowData`; default: the model's constant environment) and a clamped or free
+    vehicle; also returns its :class:`ModelData` (the same arrays, for Python-side reading)."""
     from uvms.thrusters.actuation import actuator_kernel, n_actuator_states
 
     md = model_data(model)
@@ -189,16 +181,17 @@ def held_inputs(n_joints: int, n_thrusters: int) -> Held:
 
 
 @kernel
-def forward_into(md, R, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd):
-    """``nu_dot`` (6) and ``qdd`` (n) by the articulated-body algorithm (:func:`uvms.dynamics.aba.aba`)."""
-    aba(md.body, md.work, R, nu, q, qd, tau, f_body, f_ee, v_current, a_fluid, fixed_base, nu_dot, qdd)
+def forward_into(md, R, p, nu, q, qd, tau, f_body, f_ee, flow, t, fixed_base, nu_dot, qdd):
+    """``nu_dot`` (6) and ``qdd`` (n) by the articulated-body algorithm (:func:`uvms.dynamics.aba.aba`), the
+    vehicle at rotation ``R`` and world position ``p`` in the water ``flow`` (:class:`FlowData`) at ``t``."""
+    aba(md.body, md.work, R, p, nu, q, qd, tau, f_body, f_ee, flow, t, fixed_base, nu_dot, qdd)
 
 
 @kernel
-def inverse_into(md, R, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f0, tau):
+def inverse_into(md, R, p, nu, q, qd, nu_dot, qdd, f_ee, flow, t, f0, tau):
     """The vehicle wrench ``f0`` (6) and joint torques ``tau`` (n) producing ``nu_dot``, ``qdd``
-    (:func:`uvms.dynamics.rnea.rnea`)."""
-    rnea(md.body, md.work, R, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f0, tau)
+    (:func:`uvms.dynamics.rnea.rnea`; pose and water as :func:`forward_into`)."""
+    rnea(md.body, md.work, R, p, nu, q, qd, nu_dot, qdd, f_ee, flow, t, f0, tau)
 
 
 @kernel
@@ -216,16 +209,16 @@ def _rotation(plant, quaternion):
 
 
 @njit(cache=True)
-def plant_forward(plant, x, tau, wrenches, fixed_base, out):
+def plant_forward(plant, t, x, tau, wrenches, fixed_base, out):
     """:func:`forward_into` for a state vector ``x`` (layout of :mod:`uvms.state`: ``[p | quaternion | nu |
-    q | qd | ...]``), into ``out = [nu_dot (6) | qdd (n)]``; ``wrenches = [body wrench (6) | end-effector
-    wrench (6) | current (3) | fluid acceleration (3)]`` (world-frame current [m/s] and fluid acceleration
-    [m/s^2]). Returns whether every acceleration is finite. The ABA is inlined (``aba_inlined``): the call from
-    Python is the hot path of :func:`uvms.forward_dynamics`."""
+    q | qd | ...]``) in the plant's water at ``t`` [s], into ``out = [nu_dot (6) | qdd (n)]``; ``wrenches =
+    [body wrench (6) | end-effector wrench (6)]``. Returns whether every acceleration is finite. The ABA is
+    inlined (``aba_inlined``): the call from Python is the hot path of :func:`uvms.forward_dynamics`."""
     n = out.shape[0] - 6
     R = _rotation(plant, x[QUATERNION:NU])
-    aba_inlined(plant.body, plant.work, R, x[NU:JOINTS], x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], tau,
-                wrenches[0:6], wrenches[6:12], wrenches[12:15], wrenches[15:18], fixed_base, out[0:6], out[6:])
+    aba_inlined(plant.body, plant.work, R, x[POSITION:QUATERNION], x[NU:JOINTS], x[JOINTS:JOINTS + n],
+                x[JOINTS + n:JOINTS + 2 * n], tau, wrenches[0:6], wrenches[6:12], plant.fluid, t, fixed_base, out[0:6],
+                out[6:])
     for k in range(out.shape[0]):
         if not np.isfinite(out[k]):
             return False
@@ -233,13 +226,13 @@ def plant_forward(plant, x, tau, wrenches, fixed_base, out):
 
 
 @njit(cache=True)
-def plant_inverse(plant, x, u, out):
+def plant_inverse(plant, t, x, u, out):
     """``out = [f_0 (6) | tau (n)]`` by :func:`inverse_into` for a state vector ``x`` (as :func:`plant_forward`)
-    and ``u = [nu_dot (6) | qdd (n) | end-effector wrench (6) | current (3) | fluid acceleration (3)]``."""
+    and ``u = [nu_dot (6) | qdd (n) | end-effector wrench (6)]``, in the plant's water at ``t`` [s]."""
     n = out.shape[0] - 6
     R = _rotation(plant, x[QUATERNION:NU])
-    rnea(plant.body, plant.work, R, x[NU:JOINTS], x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], u[0:6],
-         u[6:6 + n], u[6 + n:12 + n], u[12 + n:15 + n], u[15 + n:18 + n], out[0:6], out[6:6 + n])
+    rnea(plant.body, plant.work, R, x[POSITION:QUATERNION], x[NU:JOINTS], x[JOINTS:JOINTS + n],
+         x[JOINTS + n:JOINTS + 2 * n], u[0:6], u[6:6 + n], u[6 + n:12 + n], plant.fluid, t, out[0:6], out[6:6 + n])
 
 
 @njit(cache=True)

@@ -22,10 +22,11 @@ from uvms.kinematics import JOINT_Z
 
 
 @kernel
-def rnea(km, ws, R0, nu, q, qd, nu_dot, qdd, f_ee, v_current, a_fluid, f_body_out, tau_out):
-    """Write the body wrench ``f_body_out`` (6) and joint torques ``tau_out`` (n); ``f_ee`` as in the ABA."""
+def rnea(km, ws, R0, p0, nu, q, qd, nu_dot, qdd, f_ee, flow, t, f_body_out, tau_out):
+    """Write the body wrench ``f_body_out`` (6) and joint torques ``tau_out`` (n); ``f_ee``, the pose ``R0``,
+    ``p0`` and the water ``flow`` at ``t`` as in the ABA."""
     nb = km.parent.shape[0]
-    outward_pass(km, ws, R0, nu, q, qd, v_current, a_fluid)
+    outward_pass(km, ws, R0, p0, nu, q, qd, flow, t)
     for k in range(6):
         ws.no_wrench[k] = 0.0
     apply_external(km, ws, ws.no_wrench, f_ee)

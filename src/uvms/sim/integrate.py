@@ -10,8 +10,9 @@ owner of its layout)::
 
 The quaternion replaces Eq. 1's Euler-rate map ``T2`` (singular at pitch = +/-90 deg) and is renormalised
 after every step. Inputs (joint torques, body wrench, end-effector wrench, actuator commands) are held
-constant over a call (zero-order hold between controller updates); the current and fluid acceleration are
-tables in time, interpolated linearly at every stage (a constant current is a one-row table).
+constant over a call (zero-order hold between controller updates); the water (:mod:`uvms.hydro.flow`: a
+current table in time, depth profiles, gridded fields, waves) is evaluated at every stage at every body's own
+position (:func:`uvms.dynamics.passes.outward_pass`).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from numba import njit
 
 from uvms.dynamics.aba import aba_inlined
 from uvms.dynamics.plant import plant_data
+from uvms.hydro.flow import interpolate
 from uvms.jit import block, kernel
 from uvms.kinematics import quaternion_to_rotation
 from uvms.state import JOINTS, NU, POSITION, QUATERNION, State
@@ -68,38 +70,13 @@ def samples(n_rows: int, size: int, every: int) -> Samples:
     return Samples(int(every), np.zeros(n_rows), np.zeros((n_rows, size)), np.zeros(1, dtype=np.int64))
 
 
-@kernel
-def interpolate(table_t, table_v, t, out):
-    """Linear interpolation of a (K, 3) table at ``t``, held constant outside its range."""
-    K = table_t.shape[0]
-    if K == 1 or t <= table_t[0]:
-        for k in range(3):
-            out[k] = table_v[0, k]
-        return
-    if t >= table_t[K - 1]:
-        for k in range(3):
-            out[k] = table_v[K - 1, k]
-        return
-    lo = 0
-    hi = K - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if table_t[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
-    s = (t - table_t[lo]) / (table_t[hi] - table_t[lo])
-    for k in range(3):
-        out[k] = (1.0 - s) * table_v[lo, k] + s * table_v[hi, k]
-
-
 @block
 def stage_inputs(plant, held, t, x, xdot):
     """The part of ``xdot = f(t, x)`` shared by every derivative (:func:`state_derivative`,
     :func:`uvms.sim.prescribed.prescribed_derivative`): the body-to-world rotation of the normalised quaternion
     into ``plant.scratch.R``, the actuators' state rates into ``xdot`` and their body wrench plus the held one
-    into ``vecs[0]``, the current and fluid acceleration at ``t`` into ``vecs[1]``, ``vecs[2]``, and the
-    vehicle's velocity ``nu`` (zero when clamped) into ``vecs[3]``. Returns the normalised quaternion."""
+    into ``vecs[0]``, and the vehicle's velocity ``nu`` (zero when clamped) into ``vecs[3]``. Returns the
+    normalised quaternion. (The water is evaluated per body inside the ABA's outward pass.)"""
     scratch = plant.scratch
     R = scratch.R
     vecs = scratch.vecs
@@ -113,9 +90,6 @@ def stage_inputs(plant, held, t, x, xdot):
     actuator_rates(plant.actuators, x[a0:], held.command, f_body, xdot[a0:], scratch.thrust)
     for k in range(6):
         f_body[k] += held.body_wrench[k]
-    fluid = plant.fluid
-    interpolate(fluid.times, fluid.velocity, t, vecs[1])
-    interpolate(fluid.times, fluid.acceleration, t, vecs[2])
     nu = vecs[3]
     fixed_base = plant.fixed_base
     for k in range(6):
@@ -144,9 +118,9 @@ def state_derivative(plant, held, t, x, xdot):
     R = plant.scratch.R
     vecs = plant.scratch.vecs
     nu = vecs[3]
-    aba_inlined(plant.body, plant.work, R, nu, x[JOINTS:JOINTS + n], x[JOINTS + n:JOINTS + 2 * n], held.joint_torques,
-                vecs[0], held.ee_wrench, vecs[1], vecs[2], plant.fixed_base, xdot[NU:JOINTS],
-                xdot[JOINTS + n:JOINTS + 2 * n])
+    aba_inlined(plant.body, plant.work, R, x[POSITION:QUATERNION], nu, x[JOINTS:JOINTS + n],
+                x[JOINTS + n:JOINTS + 2 * n], held.joint_torques, vecs[0], held.ee_wrench, plant.fluid, t,
+                plant.fixed_base, xdot[NU:JOINTS], xdot[JOINTS + n:JOINTS + 2 * n])
     vehicle_rates(R, nu, qw, qx, qy, qz, xdot)
     for j in range(n):
         xdot[JOINTS + j] = x[JOINTS + n + j]

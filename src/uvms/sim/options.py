@@ -56,6 +56,9 @@ class Inputs:
         joint_motion: a :class:`~uvms.sim.joint_motion.JointMotion`: every joint follows it exactly (hybrid
             dynamics; the torques it takes are the result's ``joint_torques``), instead of ``joint_torques``.
             Runs with RK4 and no controller; the initial state's ``q, qd`` are the motion's at ``t = 0``.
+        flow: the water as a :class:`~uvms.hydro.flow.Flow` (a current table plus depth profile, gridded field
+            and linear waves, each body in the water at its own position; ``docs/flow.md``), instead of
+            ``current``.
     """
 
     joint_torques: Any = None
@@ -65,6 +68,7 @@ class Inputs:
     fixed_base: bool = False
     control_period: float | None = None
     joint_motion: Any = None
+    flow: Any = None
 
 
 @dataclass(frozen=True)

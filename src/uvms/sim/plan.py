@@ -13,7 +13,8 @@ import numpy as np
 
 from uvms import checks
 from uvms.checks import MAX_RECORDED_VALUES
-from uvms.dynamics.plant import FluidTable, Held, Plant, build_plant, fluid_table, held_inputs
+from uvms.dynamics.plant import Held, Plant, build_plant, fluid_table, held_inputs
+from uvms.hydro.flow import FlowData
 from uvms.sim.inputs import CurrentTable, TorqueSchedule
 from uvms.sim.integrate import Samples, pack, samples
 from uvms.sim.options import Actuation, Adaptive, Inputs, Recording, Rk4
@@ -79,13 +80,20 @@ def checked_inputs(model, inputs: Inputs) -> Inputs:
     current = inputs.current
     if not (current is None or isinstance(current, CurrentTable) or callable(current)):
         current = checks.vector(current, 3, "current", " (world frame, m/s)")
+    if inputs.flow is not None:
+        from uvms.hydro.flow import Flow
+
+        if not isinstance(inputs.flow, Flow):
+            raise checks.fail("flow", f"expected None or a uvms.hydro.flow.Flow, got {checks.show(inputs.flow)}")
+        if current is not None:
+            raise checks.fail("flow", "given with current: a Flow holds the run's current (its uniform part)")
     return Inputs(joint_torques=tau,
                   body_wrench=checks.optional_vector(inputs.body_wrench, 6, "body_wrench", " [moment; force]"),
                   ee_wrench=checks.optional_vector(inputs.ee_wrench, 6, "ee_wrench", " [moment; force]"),
                   current=current, fixed_base=checks.flag(inputs.fixed_base, "fixed_base"),
                   control_period=checks.optional_number(inputs.control_period, "control_period", positive=True,
                                                         unit="s"),
-                  joint_motion=inputs.joint_motion)
+                  joint_motion=inputs.joint_motion, flow=inputs.flow)
 
 
 def motion_of(model, inputs: Inputs, controller, integrator, timing: Timing, rows: int):
@@ -150,9 +158,12 @@ def checked_control(controller, actuation) -> Actuation:
     return actuation or Actuation()
 
 
-def current_table(model, current, timing: Timing) -> FluidTable:
-    """The run's current as a compiled table: the model's environment, a table, a callable sampled on the
-    half-step grid (RK4 sees it exactly at every stage), or a constant."""
+def current_table(model, current, timing: Timing, flow=None) -> FlowData:
+    """The run's water, compiled: a :class:`~uvms.hydro.flow.Flow` (``flow``), or a uniform current: the model's
+    environment, a table, a callable sampled on the half-step grid (RK4 sees it exactly at every stage), or a
+    constant."""
+    if flow is not None:
+        return flow.compiled(model.convention)
     if current is None:
         table = CurrentTable.constant(model.current, model.fluid_acceleration)
     elif isinstance(current, CurrentTable):
@@ -212,6 +223,7 @@ class RunPlan:
     integrator: Rk4 | Adaptive
     recording: Recording
     motion: Any = None          # uvms.sim.prescribed.Motion of a prescribed joint motion, or None
+    water: Any = None           # the plant's uvms.hydro.flow.FlowData (its status read after the run)
 
     @classmethod
     def build(cls, model, initial_state, timing: Timing, control: tuple, options: tuple) -> "RunPlan":
@@ -235,8 +247,8 @@ class RunPlan:
             order = [inputs.joint_motion.joints.index(j) for j in model.joint_names] \
                 if inputs.joint_motion.joints is not None else slice(None)
             state = state.replace(q=q0[order], qd=qd0[order])
-        plant, _ = build_plant(model, thrusters=actuation.thrusters,
-                               fluid=current_table(model, inputs.current, timing), fixed_base=inputs.fixed_base,
+        water = current_table(model, inputs.current, timing, inputs.flow)
+        plant, _ = build_plant(model, thrusters=actuation.thrusters, fluid=water, fixed_base=inputs.fixed_base,
                                bounds=recording.bounds)
         held = held_inputs(model.n_joints, len(actuation.thrusters))
         held.body_wrench[:] = inputs.body_wrench
@@ -256,7 +268,7 @@ class RunPlan:
                    arm=ArmInput(inputs.joint_torques, model.n_joints, timing, inputs.control_period),
                    controller=controller, control_every=control_every, thrusters=actuation.thrusters,
                    fixed_base=inputs.fixed_base,
-                   integrator=integrator, recording=recording, motion=motion)
+                   integrator=integrator, recording=recording, motion=motion, water=water)
 
     def schedule(self):
         """The event grid of this run (:class:`uvms.sim.compiled_loop.Schedule`): controller period, arm period

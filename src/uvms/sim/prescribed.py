@@ -27,7 +27,7 @@ from uvms.dynamics.hybrid import aba_prescribed, aba_prescribed_inlined
 from uvms.dynamics.plant import plant_data
 from uvms.jit import block, kernel
 from uvms.sim.integrate import check_state, stage_inputs, vehicle_rates
-from uvms.state import JOINTS, NU, QUATERNION
+from uvms.state import JOINTS, NU, POSITION, QUATERNION
 
 
 class Motion(NamedTuple):
@@ -87,8 +87,9 @@ def prescribed_derivative(plant, held, motion, t, x, xdot):
     R = plant.scratch.R
     vecs = plant.scratch.vecs
     nu = vecs[3]
-    aba_prescribed_inlined(plant.body, plant.work, R, nu, motion.q, motion.qd, motion.qdd, motion.free_torques,
-                           motion.prescribed, vecs[0], held.ee_wrench, vecs[1], vecs[2], plant.fixed_base,
+    aba_prescribed_inlined(plant.body, plant.work, R, x[POSITION:QUATERNION], nu, motion.q, motion.qd, motion.qdd,
+                           motion.free_torques, motion.prescribed, vecs[0], held.ee_wrench, plant.fluid, t,
+                           plant.fixed_base,
                            xdot[NU:JOINTS], motion.qdd_out, motion.tau)
     vehicle_rates(R, nu, qw, qx, qy, qz, xdot)
     for j in range(n):
@@ -182,8 +183,9 @@ def motion_torques(plant, held, motion, times, states, tau):
         stage_inputs(p, held, times[r], x, xdot)
         motion_at(motion, times[r])
         vecs = p.scratch.vecs
-        aba_prescribed(p.body, p.work, p.scratch.R, vecs[3], motion.q, motion.qd, motion.qdd, motion.free_torques,
-                       motion.prescribed, vecs[0], held.ee_wrench, vecs[1], vecs[2], p.fixed_base, xdot[NU:JOINTS],
+        aba_prescribed(p.body, p.work, p.scratch.R, x[POSITION:QUATERNION], vecs[3], motion.q, motion.qd, motion.qdd,
+                       motion.free_torques, motion.prescribed, vecs[0], held.ee_wrench, p.fluid, times[r], p.fixed_base,
+                       xdot[NU:JOINTS],
                        motion.qdd_out, motion.tau)
         for j in range(n):
             tau[r, j] = motion.tau[j]

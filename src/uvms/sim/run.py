@@ -12,6 +12,7 @@ from typing import Callable
 
 from uvms import checks
 from uvms.dynamics.plant import DEFAULT_BOUNDS  # noqa: F401  (re-exported)
+from uvms.hydro.flow import check_status
 from uvms.sim.compiled_loop import compilable, run_compiled
 from uvms.sim.loop import run_python
 from uvms.sim.options import Actuation, Inputs, Recording, grouped  # noqa: F401  (Actuation re-exported)
@@ -71,6 +72,8 @@ def simulate(model, initial_state: State | None = None, *, duration: float, step
                    inputs=inputs, **options)
     loop = run_prescribed if plan.motion is not None else run_compiled if compilable(plan) else run_python
     outcome, log = loop(plan, _Chunking(FIRST_CHUNK_STEPS, _next_chunk))
+    if plan.water is not None:
+        check_status(plan.water)                 # a body left a field that has no outside: one line
     return result_of(plan, outcome, log, wall0)
 
 

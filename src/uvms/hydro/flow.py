@@ -1,0 +1,442 @@
+"""The water: what the fluid does at a world point and time (velocity and acceleration), paper Eqs. 2, 7.
+
+One object, :class:`Flow`, describes the water of a run; its compiled form :class:`FlowData` travels in the
+plant, and :func:`fluid_at` evaluates it for every body at its own world position inside every RK4 stage
+(:func:`uvms.dynamics.passes.outward_pass`). The parts add up (superposition)::
+
+    u_f(p, t) = u_table(t) + u_profile(depth(p)) + u_field(p, t) + u_waves(p, t)
+    a_f(p, t) = a_table(t)                      + a_field(p, t) + a_waves(p, t)
+
+``a_f`` is the *local* acceleration ``du_f/dt`` at the fixed point ``p`` (what linear wave theory and
+Morison's equation use; the convective part ``(u . grad) u_f`` is of second order in the wave steepness and
+left out, ``docs/flow.md``). A steady profile has ``a_f = 0``.
+
+- **uniform table** (today's current): ``u_table``, ``a_table`` given at ``times``, linear in between, held
+  outside (one row: constant). Only this part: every body gets the same world vectors, and the algorithms
+  take the pre-wave path bit for bit (``FlowData.uniform_only``).
+- **depth profile**: ``velocity`` (K, 3) at ``depth`` (K,) [m, positive down from the mean surface], linear in
+  depth, held beyond the ends.
+- **gridded field**: ``velocity`` (nt, nz, ny, nx, 3) on world axes ``x, y, z`` and times ``t``: trilinear in
+  space, linear in time, held at the time ends (there ``a = 0``). Outside the spatial box ``outside`` decides:
+  ``"hold"`` (the nearest face's value: each coordinate clamped), ``"zero"`` (no field contribution) or
+  ``"error"`` (the evaluation gives NaN and sets ``FlowData.status[0] = OUTSIDE``; the run stops and
+  :func:`check_status` names the field). An axis of length 1 is constant along it.
+- **linear (Airy) waves** (DNV-RP-C205 ch. 3; Faltinsen 1990, ch. 2), components ``i`` of amplitude ``a``,
+  frequency ``w``, wave number ``k`` (finite depth: ``w^2 = g k tanh(k h)``), direction ``b`` and phase ``phi``,
+  ``theta = k (x cos b + y sin b) - w t + phi``, ``zeta`` the height above the mean surface (world z up in
+  ``enu``, down in ``ned``: the vertical world components change sign)::
+
+      u_h  =  a w   cosh(k (zeta + h)) / sinh(k h) cos(theta)     (along b)
+      u_z  =  a w   sinh(k (zeta + h)) / sinh(k h) sin(theta)     (up)
+      du_h/dt = a w^2 cosh(k (zeta + h)) / sinh(k h) sin(theta)
+      du_z/dt = -a w^2 sinh(k (zeta + h)) / sinh(k h) cos(theta)
+
+  computed as ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-k (zeta + 2 h)}) / (1 - e^{-2 k h})`` (and
+  the ``sinh`` ratio with a minus), one exponential per component, finite for every ``k h`` and exactly
+  ``e^{k zeta}`` in deep water (``h = inf``). Above the mean surface (``zeta > 0``, inside a crest) the
+  kinematics are held at their ``zeta = 0`` values (constant extrapolation; linear theory says nothing there);
+  below the seabed (``zeta < -h``) at the bed's.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from uvms.jit import block, kernel
+
+HOLD, ZERO, ERROR = 0, 1, 2
+"""A gridded field's outside policies (:attr:`FlowData.field_outside`)."""
+OUTSIDE_NAMES = {"hold": HOLD, "zero": ZERO, "error": ERROR}
+OUTSIDE = 1
+""":attr:`FlowData.status` code: a point lay outside a field whose ``outside`` is ``"error"``."""
+_NEGLIGIBLE = -700.0
+"""``k zeta`` below which a wave component's kinematics (``<= e^{k zeta}``) are dropped (exp underflows)."""
+
+
+class FlowData(NamedTuple):
+    """The compiled form of a :class:`Flow` (one numba type for every kind: absent parts are empty arrays).
+    World frame of the model's convention, SI units."""
+
+    uniform_only: bool          # no profile, field or waves: the algorithms' uniform path
+    times: np.ndarray           # (T,) [s] uniform table
+    velocity: np.ndarray        # (T, 3) [m/s]
+    acceleration: np.ndarray    # (T, 3) [m/s^2]
+    profile_depth: np.ndarray   # (K,) [m] positive down from the mean surface, increasing (K = 0: none)
+    profile_velocity: np.ndarray  # (K, 3) [m/s]
+    field_x: np.ndarray         # (nx,) [m] world (nx = 0: no field)
+    field_y: np.ndarray         # (ny,)
+    field_z: np.ndarray         # (nz,)
+    field_t: np.ndarray         # (nt,) [s]
+    field_velocity: np.ndarray  # (nt, nz, ny, nx, 3) [m/s]
+    field_outside: int          # HOLD, ZERO, ERROR
+    wave_k: np.ndarray          # (M,) wave number [rad/m] (M = 0: no waves)
+    wave_omega: np.ndarray      # (M,) [rad/s]
+    wave_phase: np.ndarray      # (M,) [rad]
+    wave_cos: np.ndarray        # (M,) cos of the propagation direction
+    wave_sin: np.ndarray        # (M,) sin of the propagation direction
+    wave_aw: np.ndarray         # (M,) a w [m/s]
+    wave_aw2: np.ndarray        # (M,) a w^2 [m/s^2]
+    wave_bed: np.ndarray        # (M,) e^{-2 k h} (0 in deep water)
+    wave_norm: np.ndarray       # (M,) 1 / (1 - e^{-2 k h})
+    water_depth: float          # h [m] (inf: deep)
+    surface: float              # world z of the mean free surface [m]
+    up: float                   # +1: world z up (enu), -1: down (ned)
+    status: np.ndarray          # (1,) int64: 0, or OUTSIDE once a point lay outside an "error" field
+
+
+# ------------------------------------------------------------------------------------------- kernels
+
+
+@kernel
+def interpolate(table_t, table_v, t, out):
+    """Linear interpolation of a (K, 3) table at ``t``, held constant outside its range."""
+    K = table_t.shape[0]
+    if K == 1 or t <= table_t[0]:
+        for k in range(3):
+            out[k] = table_v[0, k]
+        return
+    if t >= table_t[K - 1]:
+        for k in range(3):
+            out[k] = table_v[K - 1, k]
+        return
+    lo = 0
+    hi = K - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if table_t[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    s = (t - table_t[lo]) / (table_t[hi] - table_t[lo])
+    for k in range(3):
+        out[k] = (1.0 - s) * table_v[lo, k] + s * table_v[hi, k]
+
+
+@block
+def uniform_at(flow, t, v_out, a_out):
+    """The uniform table's velocity and acceleration at ``t`` into ``v_out``, ``a_out`` (world, (3,))."""
+    interpolate(flow.times, flow.velocity, t, v_out)
+    interpolate(flow.times, flow.acceleration, t, a_out)
+
+
+@block
+def bracket(axis, value):
+    """``(lo, s, inside)``: ``value`` lies at ``(1 - s) axis[lo] + s axis[lo + 1]`` (``s`` in [0, 1], clamped;
+    ``lo + 1`` stays in range); ``inside`` is whether it lies within ``[axis[0], axis[-1]]``. An axis of one
+    value gives ``(0, 0.0, True)`` (constant along it)."""
+    n = axis.shape[0]
+    if n == 1:
+        return 0, 0.0, True
+    if value <= axis[0]:
+        return 0, 0.0, value == axis[0]
+    if value >= axis[n - 1]:
+        return n - 2, 1.0, value == axis[n - 1]
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if axis[mid] <= value:
+            lo = mid
+        else:
+            hi = mid
+    return lo, (value - axis[lo]) / (axis[hi] - axis[lo]), True
+
+
+@block
+def profile_add(flow, point, v_out):
+    """``v_out += u_profile(depth)``, ``depth = up (surface - z)``: linear in depth, held beyond the ends."""
+    depth = flow.up * (flow.surface - point[2])
+    lo, s, _ = bracket(flow.profile_depth, depth)
+    hi = lo + 1 if flow.profile_depth.shape[0] > 1 else lo
+    for k in range(3):
+        v_out[k] += (1.0 - s) * flow.profile_velocity[lo, k] + s * flow.profile_velocity[hi, k]
+
+
+@block
+def _trilinear(V, it, ix, sx, iy, sy, iz, sz, k):
+    """Trilinear interpolation of ``V[it, :, :, :, k]`` at cell ``(iz, iy, ix)`` with weights ``sz, sy, sx``
+    (the upper index clamped to the axis for an axis of one value)."""
+    nz, ny, nx = V.shape[1], V.shape[2], V.shape[3]
+    jx = ix + 1 if nx > 1 else ix
+    jy = iy + 1 if ny > 1 else iy
+    jz = iz + 1 if nz > 1 else iz
+    c00 = (1.0 - sx) * V[it, iz, iy, ix, k] + sx * V[it, iz, iy, jx, k]
+    c10 = (1.0 - sx) * V[it, iz, jy, ix, k] + sx * V[it, iz, jy, jx, k]
+    c01 = (1.0 - sx) * V[it, jz, iy, ix, k] + sx * V[it, jz, iy, jx, k]
+    c11 = (1.0 - sx) * V[it, jz, jy, ix, k] + sx * V[it, jz, jy, jx, k]
+    c0 = (1.0 - sy) * c00 + sy * c10
+    c1 = (1.0 - sy) * c01 + sy * c11
+    return (1.0 - sz) * c0 + sz * c1
+
+
+@block
+def field_add(flow, t, point, v_out, a_out):
+    """``v_out += u_field``, ``a_out += du_field/dt`` at ``point`` and ``t`` (module docstring: trilinear in
+    space, linear in time, the outside policy)."""
+    ix, sx, in_x = bracket(flow.field_x, point[0])
+    iy, sy, in_y = bracket(flow.field_y, point[1])
+    iz, sz, in_z = bracket(flow.field_z, point[2])
+    if not (in_x and in_y and in_z):
+        if flow.field_outside == ZERO:
+            return
+        if flow.field_outside == ERROR:
+            flow.status[0] = OUTSIDE
+            for k in range(3):
+                v_out[k] = np.nan
+                a_out[k] = np.nan
+            return
+    V = flow.field_velocity
+    nt = flow.field_t.shape[0]
+    it, st, in_t = bracket(flow.field_t, t)
+    jt = it + 1 if nt > 1 else it
+    moving = nt > 1 and in_t
+    inv_dt = 1.0 / (flow.field_t[jt] - flow.field_t[it]) if moving else 0.0
+    for k in range(3):
+        v0 = _trilinear(V, it, ix, sx, iy, sy, iz, sz, k)
+        v1 = _trilinear(V, jt, ix, sx, iy, sy, iz, sz, k)
+        v_out[k] += (1.0 - st) * v0 + st * v1
+        if moving:
+            a_out[k] += (v1 - v0) * inv_dt
+
+
+@block
+def waves_add(flow, t, point, v_out, a_out):
+    """``v_out += u_waves``, ``a_out += du_waves/dt``: the linear (Airy) kinematics of every component at
+    ``point`` and ``t`` (module docstring), held at the mean surface above it and at the bed below it."""
+    up = flow.up
+    zeta = up * (point[2] - flow.surface)
+    if zeta > 0.0:
+        zeta = 0.0
+    if zeta < -flow.water_depth:
+        zeta = -flow.water_depth
+    x = point[0]
+    y = point[1]
+    uh_x = uh_y = uz = ah_x = ah_y = az = 0.0
+    for i in range(flow.wave_k.shape[0]):
+        k = flow.wave_k[i]
+        kz = k * zeta
+        if kz < _NEGLIGIBLE:
+            continue
+        cb = flow.wave_cos[i]
+        sb = flow.wave_sin[i]
+        theta = k * (x * cb + y * sb) - flow.wave_omega[i] * t + flow.wave_phase[i]
+        c = math.cos(theta)
+        s = math.sin(theta)
+        e = math.exp(kz)
+        bed = flow.wave_bed[i] / e               # e^{-k (zeta + 2 h)}
+        ch = (e + bed) * flow.wave_norm[i]       # cosh(k (zeta + h)) / sinh(k h)
+        sh = (e - bed) * flow.wave_norm[i]       # sinh(k (zeta + h)) / sinh(k h)
+        u = flow.wave_aw[i] * ch * c
+        du = flow.wave_aw2[i] * ch * s
+        uh_x += u * cb
+        uh_y += u * sb
+        ah_x += du * cb
+        ah_y += du * sb
+        uz += flow.wave_aw[i] * sh * s
+        az -= flow.wave_aw2[i] * sh * c
+    v_out[0] += uh_x
+    v_out[1] += uh_y
+    v_out[2] += up * uz
+    a_out[0] += ah_x
+    a_out[1] += ah_y
+    a_out[2] += up * az
+
+
+@block
+def fluid_at(flow, t, point, v_out, a_out):
+    """The water's velocity ``v_out`` [m/s] and local acceleration ``a_out`` [m/s^2] (world, (3,)) at the world
+    ``point`` (3,) and time ``t``: the sum of the flow's parts (module docstring)."""
+    uniform_at(flow, t, v_out, a_out)
+    if flow.profile_depth.shape[0] > 0:
+        profile_add(flow, point, v_out)
+    if flow.field_x.shape[0] > 0:
+        field_add(flow, t, point, v_out, a_out)
+    if flow.wave_k.shape[0] > 0:
+        waves_add(flow, t, point, v_out, a_out)
+
+
+@kernel
+def fluid_at_points(flow, t, points, v_out, a_out):
+    """:func:`fluid_at` at each row of ``points`` (P, 3) into the rows of ``v_out``, ``a_out`` (P, 3)."""
+    for p in range(points.shape[0]):
+        fluid_at(flow, t, points[p], v_out[p], a_out[p])
+
+
+# --------------------------------------------------------------------------------------- the Python side
+
+
+def _array(value, name: str, shape_tail: tuple, *, increasing: bool = False, min_length: int = 1) -> np.ndarray:
+    """A fresh C-ordered float64 array of ``value`` with trailing shape ``shape_tail``, finite (else a one-line
+    :class:`~uvms.errors.UvmsInputError` naming ``name``)."""
+    from uvms.checks import fail, show
+
+    try:
+        a = np.array(value, dtype=float, order="C")
+    except (TypeError, ValueError):
+        raise fail(name, f"expected numbers, got {show(value)}") from None
+    if a.ndim != 1 + len(shape_tail) or a.shape[1:] != shape_tail or a.shape[0] < min_length:
+        tail = "".join(f", {d}" for d in shape_tail)
+        raise fail(name, f"expected an array of shape (N{tail}) with N >= {min_length}, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise fail(name, "expected finite numbers, found NaN or infinity")
+    if increasing and np.any(np.diff(a) <= 0.0):
+        raise fail(name, "expected strictly increasing values")
+    return a
+
+
+def _empty(*tail: int) -> np.ndarray:
+    return np.zeros((0,) + tail)
+
+
+class Flow:
+    """The water of a run (module docstring): a uniform table plus optional depth profile, gridded field and
+    linear waves, superposed. World frame of the model's convention, SI units.
+
+    Args:
+        times, velocity, acceleration: the uniform table, (T,) [s], (T, 3) [m/s], (T, 3) [m/s^2]; ``times``
+            strictly increasing (one row: constant).
+        profile: an object with ``depth`` (K,) [m, positive down, strictly increasing] and ``velocity`` (K, 3)
+            (e.g. :class:`uvms.hydro.currents.CurrentProfile`), or ``None``.
+        field: an object with ``x, y, z, t`` (each strictly increasing, length 1 allowed), ``velocity``
+            (nt, nz, ny, nx, 3) and ``outside`` in ``{"hold", "zero", "error"}``, or ``None``.
+        waves: an object with ``amplitude, omega, wavenumber, direction, phase`` (each (M,)) and
+            ``water_depth`` (float, ``math.inf`` = deep) (e.g. :class:`uvms.hydro.waves.WaveComponents`), or
+            ``None``.
+        surface: world z of the mean free surface [m].
+    """
+
+    def __init__(self, times, velocity, acceleration, profile=None, field=None, waves=None,
+                 surface: float = 0.0) -> None:
+        from uvms.checks import fail, number
+
+        self.times = _array(times, "flow.times", (), increasing=True)
+        self.velocity = _array(velocity, "flow.velocity", (3,))
+        self.acceleration = _array(acceleration, "flow.acceleration", (3,))
+        if not self.times.shape[0] == self.velocity.shape[0] == self.acceleration.shape[0]:
+            raise fail("flow.velocity", f"expected one row per time ({self.times.shape[0]}), got "
+                                        f"{self.velocity.shape[0]} velocities and {self.acceleration.shape[0]} "
+                                        "accelerations")
+        self.surface = number(surface, "flow.surface", unit="m")
+        self.profile = None if profile is None else _checked_profile(profile)
+        self.field = None if field is None else _checked_field(field)
+        self.waves = None if waves is None else _checked_waves(waves)
+
+    @classmethod
+    def constant(cls, velocity=(0.0, 0.0, 0.0), acceleration=(0.0, 0.0, 0.0), **parts) -> "Flow":
+        """A flow whose uniform part is the constant ``velocity`` and ``acceleration`` (world, (3,))."""
+        return cls([0.0], [velocity], [acceleration], **parts)
+
+    @classmethod
+    def of_model(cls, model, **parts) -> "Flow":
+        """The model's own environment (``model.current``, ``model.fluid_acceleration``) as the uniform part."""
+        return cls.constant(model.current, model.fluid_acceleration, **parts)
+
+    def __repr__(self) -> str:
+        parts = [f"table of {self.times.shape[0]}"]
+        if self.profile is not None:
+            parts.append(f"profile of {self.profile[0].shape[0]} depths")
+        if self.field is not None:
+            parts.append(f"field {self.field[4].shape[:4]} (t, z, y, x)")
+        if self.waves is not None:
+            parts.append(f"{self.waves[0].shape[0]} wave components")
+        return f"Flow({', '.join(parts)})"
+
+    def compiled(self, convention: str = "ned") -> FlowData:
+        """The :class:`FlowData` of this flow in a world of ``convention`` (``"ned"``: z down, ``"enu"``: z up)."""
+        from uvms.frames import check_frame
+
+        up = 1.0 if check_frame(convention, "convention") == "enu" else -1.0
+        depth, pv = self.profile if self.profile is not None else (_empty(), _empty(3))
+        fx, fy, fz, ft, fv, outside = self.field if self.field is not None else (
+            _empty(), _empty(), _empty(), _empty(), np.zeros((0, 0, 0, 0, 3)), HOLD)
+        if self.waves is not None:
+            a, w, k, b, phase, h = self.waves
+        else:
+            a, w, k, b, phase, h = _empty(), _empty(), _empty(), _empty(), _empty(), math.inf
+        bed = np.exp(-2.0 * k * h) if math.isfinite(h) else np.zeros_like(k)
+        return FlowData(
+            uniform_only=self.profile is None and self.field is None and self.waves is None,
+            times=self.times.copy(), velocity=self.velocity.copy(), acceleration=self.acceleration.copy(),
+            profile_depth=depth.copy(), profile_velocity=pv.copy(), field_x=fx.copy(), field_y=fy.copy(),
+            field_z=fz.copy(), field_t=ft.copy(), field_velocity=fv.copy(), field_outside=int(outside),
+            wave_k=k.copy(), wave_omega=w.copy(), wave_phase=phase.copy(), wave_cos=np.cos(b), wave_sin=np.sin(b),
+            wave_aw=a * w, wave_aw2=a * w * w, wave_bed=bed, wave_norm=1.0 / (1.0 - bed), water_depth=float(h),
+            surface=float(self.surface), up=up, status=np.zeros(1, dtype=np.int64))
+
+    def at(self, t: float, points, convention: str = "ned") -> tuple[np.ndarray, np.ndarray]:
+        """The velocity and local acceleration (each (P, 3), world) at the world ``points`` (P, 3) and time
+        ``t`` [s] (:func:`fluid_at`; for drawing, records and tests)."""
+        from uvms.checks import number
+
+        t = number(t, "t", unit="s")
+        points = _array(np.atleast_2d(points), "points", (3,))
+        flow = self.compiled(convention)
+        v = np.zeros_like(points)
+        a = np.zeros_like(points)
+        fluid_at_points(flow, t, points, v, a)
+        check_status(flow)
+        return v, a
+
+
+def uniform_flow_data(times, velocity, acceleration) -> FlowData:
+    """The :class:`FlowData` of a uniform table alone (today's current; the convention does not matter)."""
+    return Flow(times, velocity, acceleration).compiled()
+
+
+def check_status(flow: FlowData) -> None:
+    """Raise the one-line :class:`~uvms.errors.UvmsInputError` of a flow whose evaluation found a point outside
+    a field with ``outside: error`` (:data:`OUTSIDE`); nothing otherwise."""
+    if int(flow.status[0]) == OUTSIDE:
+        from uvms.checks import fail
+
+        box = ", ".join(f"{name} [{axis[0]:g}, {axis[-1]:g}] m"
+                        for name, axis in (("x", flow.field_x), ("y", flow.field_y), ("z", flow.field_z)))
+        raise fail("current.field.outside", f"a body left the field's box ({box}) and the field says "
+                                            "'error' (no outside)")
+
+
+def _checked_profile(profile) -> tuple[np.ndarray, np.ndarray]:
+    from uvms.checks import fail
+
+    depth = _array(getattr(profile, "depth", None), "current.profile.depth", (), increasing=True)
+    velocity = _array(getattr(profile, "velocity", None), "current.profile.velocity", (3,))
+    if velocity.shape[0] != depth.shape[0]:
+        raise fail("current.profile.velocity", f"expected one row per depth ({depth.shape[0]}), got "
+                                               f"{velocity.shape[0]}")
+    return depth, velocity
+
+
+def _checked_field(field) -> tuple:
+    from uvms.checks import fail, show
+
+    axes = [_array(getattr(field, name, None), f"current.field.{name}", (), increasing=True)
+            for name in ("x", "y", "z", "t")]
+    velocity = np.array(getattr(field, "velocity", None), dtype=float, order="C")
+    shape = (axes[3].size, axes[2].size, axes[1].size, axes[0].size, 3)
+    if velocity.shape != shape:
+        raise fail("current.field.velocity", f"expected shape (nt, nz, ny, nx, 3) = {shape}, got {velocity.shape}")
+    if not np.all(np.isfinite(velocity)):
+        raise fail("current.field.velocity", "expected finite numbers, found NaN or infinity")
+    outside = getattr(field, "outside", None)
+    if outside not in OUTSIDE_NAMES:
+        raise fail("current.field.outside", f"expected one of 'hold', 'zero', 'error', got {show(outside)}")
+    return (*axes, velocity, OUTSIDE_NAMES[outside])
+
+
+def _checked_waves(waves) -> tuple:
+    from uvms.checks import fail, number
+
+    names = ("amplitude", "omega", "wavenumber", "direction", "phase")
+    arrays = [_array(getattr(waves, name, None), f"waves.{name}", (), min_length=0) for name in names]
+    if len({a.shape[0] for a in arrays}) != 1:
+        raise fail("waves", f"expected equal lengths of {', '.join(names)}, got {[a.shape[0] for a in arrays]}")
+    for name, a in zip(names[:3], arrays[:3]):
+        if np.any(a < 0.0) or (name != "amplitude" and np.any(a == 0.0)):
+            raise fail(f"waves.{name}", "expected positive values")
+    h = getattr(waves, "water_depth", None)
+    deep = isinstance(h, (float, np.floating)) and h == math.inf
+    h = math.inf if deep else number(h, "waves.water_depth", positive=True, unit="m")
+    return (*arrays, h)
