@@ -36,6 +36,18 @@ def waves(a, omega, h, direction=0.0, phase=0.0):
                            phase=np.full(a.size, phase), water_depth=h)
 
 
+def airy_gradient(a, w, k, h, beta, phi, t, x, y, zeta, step=1e-6):
+    """d u_r / d(x, y, zeta)_c of the closed form, by central differences (independent of uvms' gradient)."""
+    J = np.zeros((3, 3))
+    for c in range(3):
+        e = np.zeros(3)
+        e[c] = step
+        up_ = airy(a, w, k, h, beta, phi, t, x + e[0], y + e[1], zeta + e[2])[0]
+        down = airy(a, w, k, h, beta, phi, t, x - e[0], y - e[1], zeta - e[2])[0]
+        J[:, c] = (up_ - down) / (2 * step)
+    return J
+
+
 def airy(a, w, k, h, beta, phi, t, x, y, zeta):
     """Closed-form finite-depth kinematics, z up from the mean surface: (u (3), du/dt (3))."""
     theta = k * (x * math.cos(beta) + y * math.sin(beta)) - w * t + phi
@@ -67,15 +79,19 @@ def test_finite_depth_kinematics_match_the_closed_form(h, convention):
         zeta = -rng.uniform(0.0, 7.9)
         t = rng.uniform(0, 50)
         v, a = flow.at(t, [x, y, up * zeta], convention)
-        expected_v, expected_a = np.zeros(3), np.zeros(3)
+        expected_v, local, J = np.zeros(3), np.zeros(3), np.zeros((3, 3))
         for i in range(2):
-            vi, ai = airy(w.amplitude[i], w.omega[i], w.wavenumber[i], h, 0.4, 0.7, t, x, y, zeta)
+            args = (w.amplitude[i], w.omega[i], w.wavenumber[i], h, 0.4, 0.7, t, x, y, zeta)
+            vi, ai = airy(*args)
             expected_v += vi
-            expected_a += ai
-        expected_v[2] *= up                 # z down in ned: the vertical components change sign
-        expected_a[2] *= up
-        np.testing.assert_allclose(v[0], expected_v, rtol=1e-12, atol=1e-14)
-        np.testing.assert_allclose(a[0], expected_a, rtol=1e-12, atol=1e-14)
+            local += ai
+            J += airy_gradient(*args)
+        expected_a = local + J @ expected_v             # material acceleration du/dt + (u . grad) u (z up)
+        flip = np.array([1.0, 1.0, up])                 # z down in ned: the vertical components change sign
+        np.testing.assert_allclose(v[0], flip * expected_v, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(a[0], flip * expected_a, rtol=1e-7, atol=1e-10)
+        _, _, grad = flow.kinematics(t, [x, y, up * zeta], convention)
+        np.testing.assert_allclose(grad[0], flip[:, None] * J * flip[None, :], rtol=1e-6, atol=1e-9)
 
 
 def test_deep_water_limit():
@@ -91,8 +107,10 @@ def test_deep_water_limit():
         e = math.exp(k * z)
         np.testing.assert_allclose(v[0], [a * omega * e * math.cos(theta), 0, a * omega * e * math.sin(theta)],
                                    rtol=1e-12, atol=1e-15)
+        convective = k * (a * omega * e) ** 2            # (u . grad) u = grad |u|^2 / 2, |u| = a w e^{kz}, upward
         np.testing.assert_allclose(acc[0], [a * omega**2 * e * math.sin(theta), 0,
-                                            -a * omega**2 * e * math.cos(theta)], rtol=1e-12, atol=1e-15)
+                                            -a * omega**2 * e * math.cos(theta) + convective], rtol=1e-12,
+                                   atol=1e-15)
 
 
 def test_shallow_water_limit():
@@ -112,14 +130,16 @@ def test_shallow_water_limit():
         np.testing.assert_allclose(v[0, 2], a * omega * (1 + z / h) * math.sin(theta), rtol=5e-3, atol=1e-6)
 
 
-def test_local_acceleration_is_the_time_derivative_of_the_velocity():
-    flow = Flow.constant(waves=waves([0.3, 0.2], [0.9, 1.7], 15.0, direction=1.0))
-    p = [2.0, -1.0, 4.0]                                   # ned: 4 m deep
-    dt = 1e-5
-    vp, _ = flow.at(3.0 + dt, p)
-    vm, _ = flow.at(3.0 - dt, p)
-    _, a = flow.at(3.0, p)
-    np.testing.assert_allclose(a[0], (vp[0] - vm[0]) / (2 * dt), rtol=1e-7, atol=1e-9)
+def test_material_acceleration_is_local_plus_convective():
+    """a_f = du/dt (central difference in time) + grad u (central differences in space) u."""
+    prof = SimpleNamespace(depth=np.array([0.0, 10.0]), velocity=np.array([[0.3, 0.1, 0.05], [0.0, 0.0, 0.0]]))
+    flow = Flow.constant(profile=prof, waves=waves([0.3, 0.2], [0.9, 1.7], 15.0, direction=1.0))
+    p, t, d = np.array([2.0, -1.0, 4.0]), 3.0, 1e-5          # ned: 4 m deep
+    v, a, grad = flow.kinematics(t, p)
+    local = (flow.at(t + d, p)[0][0] - flow.at(t - d, p)[0][0]) / (2 * d)
+    J = np.column_stack([(flow.at(t, p + e)[0][0] - flow.at(t, p - e)[0][0]) / (2 * d) for e in np.eye(3) * d])
+    np.testing.assert_allclose(grad[0], J, rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(a[0], local + J @ v[0], rtol=1e-6, atol=1e-9)
 
 
 def test_above_the_mean_surface_the_kinematics_are_held_at_it():
@@ -139,14 +159,15 @@ def test_parts_superpose():
     p, t = [3.0, 1.0, 4.0], 2.5
     total = Flow([0.0, 10.0], [[0.1, 0, 0], [0.3, 0, 0]], [[0.02, 0, 0], [0.02, 0, 0]], profile=prof, waves=w)
     table = Flow([0.0, 10.0], [[0.1, 0, 0], [0.3, 0, 0]], [[0.02, 0, 0], [0.02, 0, 0]])
-    v, a = total.at(t, p)
-    v_table, a_table = table.at(t, p)
-    v_prof, a_prof = Flow.constant(profile=prof).at(t, p)
-    v_wave, a_wave = Flow.constant(waves=w).at(t, p)
-    np.testing.assert_allclose(v, v_table + v_prof + v_wave, rtol=1e-14, atol=1e-15)
-    np.testing.assert_allclose(a, a_table + a_prof + a_wave, rtol=1e-14, atol=1e-15)
-    np.testing.assert_allclose(v_table[0], [0.15, 0, 0], rtol=1e-14)      # linear in time
-    np.testing.assert_array_equal(a_prof, 0.0)                            # a steady profile does not accelerate
+    v, a, J = total.kinematics(t, p)
+    parts = [f.kinematics(t, p) for f in (table, Flow.constant(profile=prof), Flow.constant(waves=w))]
+    np.testing.assert_allclose(v, sum(q[0] for q in parts), rtol=1e-14, atol=1e-15)
+    np.testing.assert_allclose(J, sum(q[2] for q in parts), rtol=1e-14, atol=1e-15)
+    local = sum(q[1][0] - q[2][0] @ q[0][0] for q in parts)          # each part's du/dt
+    np.testing.assert_allclose(a[0], local + J[0] @ v[0], rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(parts[0][0][0], [0.15, 0, 0], rtol=1e-14)    # the table: linear in time
+    np.testing.assert_array_equal(parts[0][2], 0.0)                          # and uniform
+    np.testing.assert_array_equal(parts[1][1], 0.0)      # a steady horizontal profile does not accelerate
 
 
 # ---------------------------------------------------------------------------------------- profiles and fields
@@ -163,11 +184,13 @@ def test_depth_profile_is_linear_in_depth_and_held_beyond(convention, sign):
                                atol=1e-15)
 
 
+G_FIELD = np.array([[0.01, 0.02, 0.0], [0.0, -0.03, 0.01], [0.02, 0, 0.01]])
+
+
 def linear_field(outside="hold"):
     """u = c + G p + d t on a coarse grid (trilinear interpolation reproduces a linear function exactly)."""
     x, y, z, t = np.array([-2.0, 0.0, 3.0]), np.array([-1.0, 1.0]), np.array([0.0, 2.0, 5.0]), np.array([0.0, 4.0])
-    c, Gm, d = np.array([0.1, -0.2, 0.05]), np.array([[0.01, 0.02, 0.0], [0.0, -0.03, 0.01], [0.02, 0, 0.01]]), \
-        np.array([0.01, 0.0, -0.02])
+    c, Gm, d = np.array([0.1, -0.2, 0.05]), G_FIELD, np.array([0.01, 0.0, -0.02])
     V = np.zeros((t.size, z.size, y.size, x.size, 3))
     for it, tt in enumerate(t):
         for iz, zz in enumerate(z):
@@ -185,12 +208,13 @@ def test_field_is_trilinear_in_space_and_linear_in_time():
     for _ in range(10):
         p = [rng.uniform(-2, 3), rng.uniform(-1, 1), rng.uniform(0, 5)]
         t = rng.uniform(0, 4)
-        v, a = flow.at(t, p)
+        v, a, grad = flow.kinematics(t, p)
         np.testing.assert_allclose(v[0], exact(p, t), rtol=1e-12, atol=1e-14)
-        np.testing.assert_allclose(a[0], d, rtol=1e-12, atol=1e-14)
-    v, a = flow.at(9.0, [0.0, 0.0, 1.0])                 # after the last time: held, not accelerating
+        np.testing.assert_allclose(grad[0], G_FIELD, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(a[0], d + G_FIELD @ exact(p, t), rtol=1e-12, atol=1e-14)    # du/dt + (u . grad) u
+    v, a = flow.at(9.0, [0.0, 0.0, 1.0])                 # after the last time: held, no local acceleration
     np.testing.assert_allclose(v[0], exact([0.0, 0.0, 1.0], 4.0), rtol=1e-12)
-    np.testing.assert_array_equal(a[0], 0.0)
+    np.testing.assert_allclose(a[0], G_FIELD @ v[0], rtol=1e-12, atol=1e-15)
 
 
 def test_field_outside_policies():
@@ -213,8 +237,10 @@ def test_field_with_single_value_axes_is_constant_along_them():
                             velocity=V, outside="error")
     v, a = Flow.constant(field=field).at(5.0, [2.5, 0.0, 0.0])
     np.testing.assert_allclose(v[0], [0.25, 0, 0])
+    v_off, _ = Flow.constant(field=field).at(5.0, [2.5, 7.0, -3.0])     # constant along y and z: never outside
+    np.testing.assert_array_equal(v_off, v)
     with pytest.raises(UvmsInputError):
-        Flow.constant(field=field).at(5.0, [2.5, 1.0, 0.0])         # y off its single value: outside
+        Flow.constant(field=field).at(5.0, [12.5, 0.0, 0.0])        # beyond x: outside
 
 
 @pytest.mark.parametrize("bad,match", [
@@ -263,10 +289,16 @@ def test_neutral_body_without_drag_follows_the_water_particle(added_mass):
     u0, _ = flow.at(0.0, p0)
     state = uvms.State.zero(model).replace(position=p0, nu=np.concatenate([np.zeros(3), u0[0]]))
     result = uvms.simulate(model, state, duration=10 * T, step=0.01, flow=flow)
+    t = np.asarray(result.time)
     p = np.asarray(result.position)
-    radius = np.hypot(p[:, 0] - p[:, 0].mean(), p[:, 2] - p[:, 2].mean())
     expected = a * math.exp(-k * depth)
-    assert np.max(np.abs(radius / expected - 1.0)) < 0.01
+    drift = np.polyval(np.polyfit(t, p[:, 0], 1), t)       # Stokes drift ~ w k a^2 e^{2kz}: second order
+    for r in range(10):                                     # each period's half peak-to-peak, both axes
+        period = (t >= r * T) & (t < (r + 1) * T)
+        horizontal = np.ptp(p[period, 0] - drift[period]) / 2
+        vertical = np.ptp(p[period, 2]) / 2
+        assert abs(horizontal / expected - 1.0) < 0.01, (r, horizontal, expected)
+        assert abs(vertical / expected - 1.0) < 0.01, (r, vertical, expected)
     assert np.max(np.abs(p[:, 1])) < 1e-9                   # no motion across the waves
 
 
@@ -284,7 +316,8 @@ def fixed_cylinder(D: float, L: float, Ca: float, Cd: float):
 
 
 def test_morison_force_on_a_fixed_cylinder_in_regular_waves():
-    """f = rho V (1 + C_a) du/dt + 1/2 rho C_d D L u |u| (Morison), u and du/dt the Airy kinematics."""
+    """f = rho V (1 + C_a) Du/Dt + 1/2 rho C_d D L u |u| (Morison), u and Du/Dt = du/dt + u du/dx + w du/dz the
+    Airy kinematics at the cylinder (closed forms written out here)."""
     from uvms.dynamics.inspect import hydrodynamic_wrenches_in
 
     D, L, Ca, Cd = 0.3, 0.5, 1.0, 1.2
@@ -296,8 +329,15 @@ def test_morison_force_on_a_fixed_cylinder_in_regular_waves():
     for t in np.linspace(0.0, T, 9):
         out = hydrodynamic_wrenches_in(model, state, flow, t, fixed_base=True)
         force = sum(out.wrenches[c][0, 3:] for c in ("fluid_acceleration", "drag", "added_mass_velocity"))
-        u, du = airy(a, w.omega[0], w.wavenumber[0], h, 0.0, 0.0, t, 1.5, 0.0, -depth)
-        expected_x = rho * V * (1 + Ca) * du[0] + 0.5 * rho * Cd * D * L * u[0] * abs(u[0])
+        om, k = w.omega[0], w.wavenumber[0]
+        theta = k * 1.5 - om * t
+        ch = math.cosh(k * (h - depth)) / math.sinh(k * h)
+        sh = math.sinh(k * (h - depth)) / math.sinh(k * h)
+        u, uz = a * om * ch * math.cos(theta), a * om * sh * math.sin(theta)
+        du_dt = a * om**2 * ch * math.sin(theta)
+        du_dx, du_dz = -a * om * k * ch * math.sin(theta), a * om * k * sh * math.cos(theta)
+        Du = du_dt + u * du_dx + uz * du_dz                 # the water's material acceleration
+        expected_x = rho * V * (1 + Ca) * Du + 0.5 * rho * Cd * D * L * u * abs(u)
         np.testing.assert_allclose(force[0], expected_x, rtol=1e-10, atol=1e-10)
 
 

@@ -5,11 +5,14 @@ plant, and :func:`fluid_at` evaluates it for every body at its own world positio
 (:func:`uvms.dynamics.passes.outward_pass`). The parts add up (superposition)::
 
     u_f(p, t) = u_table(t) + u_profile(depth(p)) + u_field(p, t) + u_waves(p, t)
-    a_f(p, t) = a_table(t)                      + a_field(p, t) + a_waves(p, t)
+    a_f(p, t) = du_f/dt + (u_f . grad) u_f          (the material acceleration of the water at p)
 
-``a_f`` is the *local* acceleration ``du_f/dt`` at the fixed point ``p`` (what linear wave theory and
-Morison's equation use; the convective part ``(u . grad) u_f`` is of second order in the wave steepness and
-left out, ``docs/flow.md``). A steady profile has ``a_f = 0``.
+``du_f/dt`` is the local acceleration at the fixed point (the table's acceleration column, a field's slope in
+time, the waves' ``du/dt``; a steady profile has none) and ``grad u_f`` the sum of the parts' velocity
+gradients. The convective part is of second order in the wave steepness, so to first order ``a_f`` is linear
+theory's ``du/dt``; it is kept because the pressure gradient of the water is ``rho (a_f - g)``, and without it a
+neutrally buoyant body drifts down secularly (``k a^2 w^2 e^{2 k z} t^2 / 2``) instead of following the water
+particle (``docs/flow.md``). A uniform table has no gradient: its ``a_f`` is its acceleration column.
 
 - **uniform table** (today's current): ``u_table``, ``a_table`` given at ``times``, linear in between, held
   outside (one row: constant). Only this part: every body gets the same world vectors, and the algorithms
@@ -30,6 +33,9 @@ left out, ``docs/flow.md``). A steady profile has ``a_f = 0``.
       u_z  =  a w   sinh(k (zeta + h)) / sinh(k h) sin(theta)     (up)
       du_h/dt = a w^2 cosh(k (zeta + h)) / sinh(k h) sin(theta)
       du_z/dt = -a w^2 sinh(k (zeta + h)) / sinh(k h) cos(theta)
+
+  and their gradients (``d theta/dx = k cos b``, ``d theta/dy = k sin b``, ``d cosh(k (zeta + h))/d zeta =
+  k sinh(k (zeta + h))``, zero along ``zeta`` where it is held),
 
   computed as ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-k (zeta + 2 h)}) / (1 - e^{-2 k h})`` (and
   the ``sinh`` ratio with a minus), one exponential per component, finite for every ``k h`` and exactly
@@ -146,13 +152,20 @@ def bracket(axis, value):
 
 
 @block
-def profile_add(flow, point, v_out):
-    """``v_out += u_profile(depth)``, ``depth = up (surface - z)``: linear in depth, held beyond the ends."""
+def profile_add(flow, point, v_out, grad):
+    """``v_out += u_profile(depth)``, ``depth = up (surface - z)``: linear in depth, held beyond the ends;
+    ``grad[:, 2] += du/dz`` (the segment's slope inside, zero where held)."""
     depth = flow.up * (flow.surface - point[2])
-    lo, s, _ = bracket(flow.profile_depth, depth)
-    hi = lo + 1 if flow.profile_depth.shape[0] > 1 else lo
+    lo, s, inside = bracket(flow.profile_depth, depth)
+    n = flow.profile_depth.shape[0]
+    hi = lo + 1 if n > 1 else lo
+    V = flow.profile_velocity
     for k in range(3):
-        v_out[k] += (1.0 - s) * flow.profile_velocity[lo, k] + s * flow.profile_velocity[hi, k]
+        v_out[k] += (1.0 - s) * V[lo, k] + s * V[hi, k]
+    if n > 1 and inside:
+        dz = -flow.up / (flow.profile_depth[hi] - flow.profile_depth[lo])     # d depth / dz = -up
+        for k in range(3):
+            grad[k, 2] += (V[hi, k] - V[lo, k]) * dz
 
 
 @block
@@ -173,9 +186,30 @@ def _trilinear(V, it, ix, sx, iy, sy, iz, sz, k):
 
 
 @block
-def field_add(flow, t, point, v_out, a_out):
-    """``v_out += u_field``, ``a_out += du_field/dt`` at ``point`` and ``t`` (module docstring: trilinear in
-    space, linear in time, the outside policy)."""
+def _gradient(V, it, ix, sx, iy, sy, iz, sz, k, axis, h):
+    """d/d(axis) of the trilinear interpolant of ``V[it, ..., k]`` in the cell (``h`` the cell's width along
+    ``axis``: 0 for an axis of one value or a held coordinate, then the derivative is 0)."""
+    if h == 0.0:
+        return 0.0
+    if axis == 0:
+        return (_trilinear(V, it, ix, 1.0, iy, sy, iz, sz, k) - _trilinear(V, it, ix, 0.0, iy, sy, iz, sz, k)) / h
+    if axis == 1:
+        return (_trilinear(V, it, ix, sx, iy, 1.0, iz, sz, k) - _trilinear(V, it, ix, sx, iy, 0.0, iz, sz, k)) / h
+    return (_trilinear(V, it, ix, sx, iy, sy, iz, 1.0, k) - _trilinear(V, it, ix, sx, iy, sy, iz, 0.0, k)) / h
+
+
+@block
+def _width(axis, lo, inside):
+    """The cell width along an axis at ``lo`` (0 for an axis of one value, or outside it: held)."""
+    if axis.shape[0] == 1 or not inside:
+        return 0.0
+    return axis[lo + 1] - axis[lo]
+
+
+@block
+def field_add(flow, t, point, v_out, a_out, grad):
+    """``v_out += u_field``, ``a_out += du_field/dt``, ``grad += grad u_field`` at ``point`` and ``t`` (module
+    docstring: trilinear in space, linear in time, the outside policy)."""
     ix, sx, in_x = bracket(flow.field_x, point[0])
     iy, sy, in_y = bracket(flow.field_y, point[1])
     iz, sz, in_z = bracket(flow.field_z, point[2])
@@ -194,27 +228,41 @@ def field_add(flow, t, point, v_out, a_out):
     jt = it + 1 if nt > 1 else it
     moving = nt > 1 and in_t
     inv_dt = 1.0 / (flow.field_t[jt] - flow.field_t[it]) if moving else 0.0
+    hx = _width(flow.field_x, ix, in_x)
+    hy = _width(flow.field_y, iy, in_y)
+    hz = _width(flow.field_z, iz, in_z)
     for k in range(3):
         v0 = _trilinear(V, it, ix, sx, iy, sy, iz, sz, k)
         v1 = _trilinear(V, jt, ix, sx, iy, sy, iz, sz, k)
         v_out[k] += (1.0 - st) * v0 + st * v1
         if moving:
             a_out[k] += (v1 - v0) * inv_dt
+        grad[k, 0] += (1.0 - st) * _gradient(V, it, ix, sx, iy, sy, iz, sz, k, 0, hx) \
+            + st * _gradient(V, jt, ix, sx, iy, sy, iz, sz, k, 0, hx)
+        grad[k, 1] += (1.0 - st) * _gradient(V, it, ix, sx, iy, sy, iz, sz, k, 1, hy) \
+            + st * _gradient(V, jt, ix, sx, iy, sy, iz, sz, k, 1, hy)
+        grad[k, 2] += (1.0 - st) * _gradient(V, it, ix, sx, iy, sy, iz, sz, k, 2, hz) \
+            + st * _gradient(V, jt, ix, sx, iy, sy, iz, sz, k, 2, hz)
 
 
 @block
-def waves_add(flow, t, point, v_out, a_out):
-    """``v_out += u_waves``, ``a_out += du_waves/dt``: the linear (Airy) kinematics of every component at
-    ``point`` and ``t`` (module docstring), held at the mean surface above it and at the bed below it."""
+def waves_add(flow, t, point, v_out, a_out, grad):
+    """``v_out += u_waves``, ``a_out += du_waves/dt``, ``grad += grad u_waves``: the linear (Airy) kinematics of
+    every component at ``point`` and ``t`` (module docstring), held at the mean surface above it and at the bed
+    below it (there the vertical derivatives are zero)."""
     up = flow.up
     zeta = up * (point[2] - flow.surface)
+    held = 1.0
     if zeta > 0.0:
         zeta = 0.0
+        held = 0.0
     if zeta < -flow.water_depth:
         zeta = -flow.water_depth
+        held = 0.0
     x = point[0]
     y = point[1]
     uh_x = uh_y = uz = ah_x = ah_y = az = 0.0
+    p_cc = p_cs = p_ss = p_sum = q_c = q_s = 0.0      # sums of P = a w k ch sin(theta), Q = a w k sh cos(theta)
     for i in range(flow.wave_k.shape[0]):
         k = flow.wave_k[i]
         kz = k * zeta
@@ -237,32 +285,57 @@ def waves_add(flow, t, point, v_out, a_out):
         ah_y += du * sb
         uz += flow.wave_aw[i] * sh * s
         az -= flow.wave_aw2[i] * sh * c
+        P = flow.wave_aw[i] * k * ch * s
+        Q = flow.wave_aw[i] * k * sh * c
+        p_cc += P * cb * cb
+        p_cs += P * cb * sb
+        p_ss += P * sb * sb
+        p_sum += P
+        q_c += Q * cb
+        q_s += Q * sb
     v_out[0] += uh_x
     v_out[1] += uh_y
     v_out[2] += up * uz
     a_out[0] += ah_x
     a_out[1] += ah_y
     a_out[2] += up * az
-
-
-@block
-def fluid_at(flow, t, point, v_out, a_out):
-    """The water's velocity ``v_out`` [m/s] and local acceleration ``a_out`` [m/s^2] (world, (3,)) at the world
-    ``point`` (3,) and time ``t``: the sum of the flow's parts (module docstring)."""
-    uniform_at(flow, t, v_out, a_out)
-    if flow.profile_depth.shape[0] > 0:
-        profile_add(flow, point, v_out)
-    if flow.field_x.shape[0] > 0:
-        field_add(flow, t, point, v_out, a_out)
-    if flow.wave_k.shape[0] > 0:
-        waves_add(flow, t, point, v_out, a_out)
+    vz = up * held                               # d zeta / dz where it is not held
+    grad[0, 0] -= p_cc
+    grad[0, 1] -= p_cs
+    grad[0, 2] += q_c * vz
+    grad[1, 0] -= p_cs
+    grad[1, 1] -= p_ss
+    grad[1, 2] += q_s * vz
+    grad[2, 0] += up * q_c
+    grad[2, 1] += up * q_s
+    grad[2, 2] += up * vz * p_sum
 
 
 @kernel
-def fluid_at_points(flow, t, points, v_out, a_out):
-    """:func:`fluid_at` at each row of ``points`` (P, 3) into the rows of ``v_out``, ``a_out`` (P, 3)."""
+def fluid_at(flow, t, point, v_out, a_out, grad):
+    """The water's velocity ``v_out`` [m/s] and material acceleration ``a_out`` [m/s^2] (world, (3,)) at the
+    world ``point`` (3,) and time ``t``: the sum of the flow's parts, then ``a_out += (grad u) u``
+    (module docstring); ``grad`` (3, 3) is scratch, left holding ``grad[r, c] = du_r/dx_c``."""
+    uniform_at(flow, t, v_out, a_out)
+    for r in range(3):
+        for c in range(3):
+            grad[r, c] = 0.0
+    if flow.profile_depth.shape[0] > 0:
+        profile_add(flow, point, v_out, grad)
+    if flow.field_x.shape[0] > 0:
+        field_add(flow, t, point, v_out, a_out, grad)
+    if flow.wave_k.shape[0] > 0:
+        waves_add(flow, t, point, v_out, a_out, grad)
+    for r in range(3):
+        a_out[r] += grad[r, 0] * v_out[0] + grad[r, 1] * v_out[1] + grad[r, 2] * v_out[2]
+
+
+@kernel
+def fluid_at_points(flow, t, points, v_out, a_out, grad):
+    """:func:`fluid_at` at each row of ``points`` (P, 3) into the rows of ``v_out``, ``a_out`` (P, 3) and
+    ``grad`` (P, 3, 3)."""
     for p in range(points.shape[0]):
-        fluid_at(flow, t, points[p], v_out[p], a_out[p])
+        fluid_at(flow, t, points[p], v_out[p], a_out[p], grad[p])
 
 
 # --------------------------------------------------------------------------------------- the Python side
@@ -367,8 +440,14 @@ class Flow:
             surface=float(self.surface), up=up, status=np.zeros(1, dtype=np.int64))
 
     def at(self, t: float, points, convention: str = "ned") -> tuple[np.ndarray, np.ndarray]:
-        """The velocity and local acceleration (each (P, 3), world) at the world ``points`` (P, 3) and time
-        ``t`` [s] (:func:`fluid_at`; for drawing, records and tests)."""
+        """The velocity and material acceleration (each (P, 3), world) at the world ``points`` (P, 3) and time
+        ``t`` [s] (:func:`fluid_at`; for drawing, records and tests). :meth:`kinematics` adds the gradient."""
+        v, a, _ = self.kinematics(t, points, convention)
+        return v, a
+
+    def kinematics(self, t: float, points, convention: str = "ned") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(velocity (P, 3), material acceleration (P, 3), velocity gradient (P, 3, 3))`` at the world
+        ``points`` and time ``t`` [s]; ``gradient[p, r, c] = du_r/dx_c``."""
         from uvms.checks import number
 
         t = number(t, "t", unit="s")
@@ -376,9 +455,10 @@ class Flow:
         flow = self.compiled(convention)
         v = np.zeros_like(points)
         a = np.zeros_like(points)
-        fluid_at_points(flow, t, points, v, a)
+        grad = np.zeros((points.shape[0], 3, 3))
+        fluid_at_points(flow, t, points, v, a, grad)
         check_status(flow)
-        return v, a
+        return v, a, grad
 
 
 def uniform_flow_data(times, velocity, acceleration) -> FlowData:
