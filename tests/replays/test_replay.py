@@ -139,7 +139,8 @@ def test_a_replay_drives_the_models_thrusters_with_the_logged_commands(thruster_
         assert np.max(np.abs(sim[name] - e.measured[name])) < 1e-4, name
     assert max(np.max(np.abs(free[n] - e.measured[n])) for n in ("depth", "x", "y")) > 0.1
     k = np.searchsorted(table.times, run.time + 0.5 + 1e-9, side="right") - 1      # the log's clock
-    np.testing.assert_allclose(run.signals["command_t3"], table.commands[k, 2], rtol=1e-9)    # 10 digits in the CSV
+    # the CSV holds 10 digits
+    np.testing.assert_allclose(run.signals["thruster_command_t3"], table.commands[k, 2], rtol=1e-9)
 
 
 def test_logged_commands_must_name_the_models_thrusters(thruster_log, tmp_path, capsys):

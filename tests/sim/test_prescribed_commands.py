@@ -56,7 +56,7 @@ def test_held_commands_act_as_the_thrust_map_row_by_row(setup):
     assert np.abs(run.nu[-1] - start.nu).max() > 0.05                       # the commands moved it
     for k in range(4):                                                        # the held commands are recorded
         expected = np.where(run.time < 0.5 - 1e-9, u[0, k], u[1, k])
-        np.testing.assert_array_equal(run.signals[f"command_u{k}"], expected)
+        np.testing.assert_array_equal(run.signals[f"thruster_command_u{k}"], expected)
 
 
 def test_a_first_order_thruster_lags_its_step_command(setup):

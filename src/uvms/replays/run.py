@@ -4,8 +4,8 @@
 :func:`replay` simulates in the **log's** frame convention (a model written in the other one is mapped onto it
 by :meth:`uvms.model.Model.in_frame`, the half turn of :mod:`uvms.frames`), so the run's roll, pitch, yaw and
 position read like the log's. Logged thruster commands, when the log has them, drive the model file's
-thrusters (held from row to row, :func:`commands_of`); without them the thrusters are off. The joints follow a C2 cubic spline through the logged angles sampled on a
-uniform grid at the joint stream's own spacing (:class:`uvms.sim.joint_motion.JointMotion`); the start state is
+thrusters (held from row to row, :func:`commands_of`); without them the thrusters are off.
+The joints follow a C2 cubic spline through the logged angles sampled on a uniform grid at the joint stream's own spacing (:class:`uvms.sim.joint_motion.JointMotion`); the start state is
 the log's (:meth:`uvms.Log.initial_state`: pose, body velocities from a local fit) with the joints at the
 spline's start. The comparison is on a uniform grid (default 40 ms): signals of
 :mod:`uvms.identify.experiment` and the scores of :mod:`uvms.logs.score` (RMSE beside the no-skill score of the

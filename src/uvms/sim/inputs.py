@@ -2,7 +2,8 @@
 Section 6's torques).
 
 A :class:`TorqueSchedule` is piecewise constant: ``torques[k]`` applies for ``times[k] <= t < times[k+1]``
-(the last row until the end); so is a :class:`CommandSchedule` of the thrusters' commands (a log's, replayed). A :class:`CurrentTable` holds world-frame current velocity and fluid
+(the last row until the end); so is a :class:`CommandSchedule` of the thrusters' commands (a log's, replayed).
+A :class:`CurrentTable` holds world-frame current velocity and fluid
 acceleration at given times, interpolated linearly; a Python callable ``current(t) -> (3,)`` is sampled onto
 such a table on the integrator's half-step grid, so RK4 sees it exactly at every stage.
 """

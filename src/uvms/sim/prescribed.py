@@ -239,15 +239,15 @@ class MotionLog:
 
 
 def command_signals(plan, times: np.ndarray) -> dict[str, np.ndarray]:
-    """``{"command_<thruster>": (K,)}``: the held thruster commands at each recorded row (those in force over
-    the step that starts there; the last row's, the last held), none without a command table."""
+    """``{"thruster_command_<thruster>": (K,)}``: the held thruster commands at each recorded row (those in force
+    over the step that starts there; the last row's, the last held), none without a command table."""
     motion = plan.motion
     if motion.command_times.shape[0] == 0:
         return {}
     h = plan.timing.h
     steps = np.floor(np.asarray(times, dtype=float) / h + 0.5) * h         # rows lie on the step grid
     k = np.clip(np.searchsorted(motion.command_times, steps + 1e-12, side="right") - 1, 0, None)
-    return {f"command_{th.name}": motion.commands[k, j].copy() for j, th in enumerate(plan.thrusters)}
+    return {f"thruster_command_{th.name}": motion.commands[k, j].copy() for j, th in enumerate(plan.thrusters)}
 
 
 def row_torques(plan, times: np.ndarray, states: np.ndarray) -> np.ndarray:
