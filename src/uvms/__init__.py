@@ -59,6 +59,7 @@ _EXPORTS = {
     "Dynamics": "uvms.dynamics.api",
     "Result": "uvms.sim.result",
     "TorqueSchedule": "uvms.sim.inputs",
+    "CommandSchedule": "uvms.sim.inputs",
     "JointMotion": "uvms.sim.joint_motion",
     "hydrodynamic_wrenches": "uvms.dynamics.inspect",
     "show": "uvms.view",

@@ -24,19 +24,23 @@ def arm_motion(model, amplitude: float = 0.6, seconds: float = 8.0):
 
 
 def write_log(folder: Path, model, *, log_frame: str = "enu", seconds: float = 8.0, noise_deg: float = 0.0,
-              noise_m: float = 0.0, seed: int = 0, start_euler=(0.05, -0.08, 0.4), name: str = "trial") -> Path:
+              noise_m: float = 0.0, seed: int = 0, start_euler=(0.05, -0.08, 0.4), name: str = "trial",
+              commands=None) -> Path:
     """Simulate ``model`` (vehicle free, joints prescribed) and write the run as a log in ``log_frame``: the
     pose every 10 ms (quaternion x, y, z, w), the joints every 20 ms with an offset of -1 rad on the first joint
     and a sign of -1 on the last; the log's clock is the run's, and the replay starts 0.5 s in (so that the
-    start's velocities come from a fit on both sides of it). Returns the description file and the run's state
-    at the replay's start in ``log_frame``."""
+    start's velocities come from a fit on both sides of it). ``commands`` (a :class:`uvms.CommandSchedule` on the
+    run's clock, columns named by the model's thrusters) drive the model's thrusters and are written as a
+    thrusters stream at their own times. Returns the description file and the run's state at the replay's
+    start in ``log_frame``."""
     folder.mkdir(parents=True, exist_ok=True)
     t, angles = arm_motion(model, seconds=seconds + 1.0)
     motion = uvms.JointMotion.from_arrays(t, angles, joints=model.joint_names)
     state = uvms.State.zero(model).replace(quaternion=quaternion_from_euler(np.array(start_euler)),
                                            position=np.array([0.3, -0.2, 1.0]))
-    run = uvms.simulate(model, state, duration=seconds + 0.5, step=0.002, record_period=0.01,
-                        inputs=uvms.Inputs(joint_motion=motion))
+    actuation = uvms.Actuation.named("model", model) if commands is not None else None
+    run = uvms.simulate(model, state, duration=seconds + 0.5, step=0.002, record_period=0.01, actuation=actuation,
+                        inputs=uvms.Inputs(joint_motion=motion, thruster_commands=commands))
     rng = np.random.default_rng(seed)
     offset = 0.0                                     # the log's clock is the run's
     begin = 0.5                                      # the replay's start on that clock
@@ -71,6 +75,12 @@ def write_log(folder: Path, model, *, log_frame: str = "enu", seconds: float = 8
             f"quaternion_xyzw: [x_ori, y_ori, z_ori, w_ori]}}\n"
             f"joints: {{file: {name}_joints.csv, time: time_secs, columns: {{{columns}}}, "
             f"offset: {{{model.joint_names[0]}: -1.0}}, sign: {{{model.joint_names[-1]}: -1}}}}\n")
+    if commands is not None:
+        rows = ["time_secs," + ",".join(f"pwm_{x}" for x in commands.names)]
+        rows += [",".join(f"{v:.10g}" for v in (tk + offset, *u)) for tk, u in zip(commands.times, commands.commands)]
+        (folder / f"{name}_thrusters.csv").write_text("\n".join(rows) + "\n")
+        columns = ", ".join(f"{x}: pwm_{x}" for x in commands.names)
+        text += f"thrusters: {{file: {name}_thrusters.csv, time: time_secs, columns: {{{columns}}}}}\n"
     path = folder / f"{name}.yaml"
     path.write_text(text)
     k = int(np.argmin(np.abs(run.time - begin)))

@@ -2,6 +2,7 @@
 encoder offsets and signs, follows the log to the interpolation error; the CLI writes the replay folder whole
 and refuses bad input in one line."""
 
+import dataclasses
 import json
 
 import numpy as np
@@ -97,3 +98,87 @@ def test_the_default_folder_is_named_after_the_log_but_never_chosen_by_it(own_lo
     odd.write_text(path.read_text())
     assert main(["replay", "paper", str(odd)]) == 0
     assert (tmp_path / "replays" / "replay" / "comparison.json").is_file()
+
+
+@pytest.fixture(scope="module")
+def thruster_log(tmp_path_factory):
+    """The BlueROV2 Heavy + Alpha 5 (eight T200 table thrusters, ESC pulse widths [us]) driven by a new command
+    every 0.25 s while the arm moves, written as a log with a thrusters stream (replay from 0.5 s on)."""
+    model = uvms.load_model("bluerov2_heavy_alpha5")
+    rng = np.random.default_rng(3)
+    times = np.arange(0.0, 8.5, 0.25)
+    pwm = 1500.0 + rng.uniform(-80.0, 80.0, (times.size, len(model.thrusters)))
+    table = uvms.CommandSchedule(times, pwm, names=tuple(t.name for t in model.thrusters))
+    path, truth = write_log(tmp_path_factory.mktemp("thr"), model, log_frame="enu", commands=table)
+    return model, path, truth, table
+
+
+def test_a_replay_drives_the_models_thrusters_with_the_logged_commands(thruster_log):
+    """From the true start (pose, velocities and thrust states), the replay with the logged commands follows
+    the log to the interpolation error; the same replay with the thrusters off does not (the commands moved
+    the vehicle by tens of centimetres and degrees); the result records the commands held at the log's times."""
+    from uvms.identify.experiment import result_signals
+    from uvms.replays import plan
+
+    model, path, truth, table = thruster_log
+    e = plan(model, path)
+    assert e.actuation is not None and e.inputs.thruster_commands is not None
+    start = e.initial_state.replace(position=truth.position, quaternion=truth.quaternion, nu=truth.nu,
+                                    actuator=truth.actuator)
+    enu = model.in_frame("enu")
+    run = uvms.simulate(enu, start, duration=e.duration, step=e.step, inputs=e.inputs, actuation=e.actuation,
+                        record_period=e.record_period())
+    off = uvms.simulate(enu, start, duration=e.duration, step=e.step, record_period=e.record_period(),
+                        inputs=uvms.Inputs(joint_motion=e.inputs.joint_motion))
+    names = ("roll", "pitch", "yaw", "depth", "x", "y")
+    sim, free = (result_signals(r, e.times, names, "enu") for r in (run, off))
+    for name in ("roll", "pitch", "yaw"):
+        assert np.degrees(np.max(np.abs(sim[name] - e.measured[name]))) < 5e-3, name
+        assert np.degrees(np.max(np.abs(free[name] - e.measured[name]))) > 1.0, name
+    for name in ("depth", "x", "y"):
+        assert np.max(np.abs(sim[name] - e.measured[name])) < 1e-4, name
+    assert max(np.max(np.abs(free[n] - e.measured[n])) for n in ("depth", "x", "y")) > 0.1
+    k = np.searchsorted(table.times, run.time + 0.5 + 1e-9, side="right") - 1      # the log's clock
+    # the CSV holds 10 digits
+    np.testing.assert_allclose(run.signals["thruster_command_t3"], table.commands[k, 2], rtol=1e-9)
+
+
+def test_logged_commands_must_name_the_models_thrusters(thruster_log, tmp_path, capsys):
+    model, path, _, _ = thruster_log
+    bad = path.parent / "bad_thrusters.yaml"
+    bad.write_text(path.read_text().replace("t8: pwm_t8", "t9: pwm_t8"))
+    assert main(["replay", "bluerov2_heavy_alpha5", str(bad), "-o", str(tmp_path / "rp")]) == 2
+    err = capsys.readouterr().err
+    assert "not a thruster of the model: t9; missing t8" in err and len(err.strip().splitlines()) == 1
+    assert main(["replay", "hinsdale_bluerov2_alpha5", str(path), "-o", str(tmp_path / "rp")]) == 2
+    assert "has no thrusters" in capsys.readouterr().err
+
+
+def test_animate_draws_the_simulation_and_the_log_in_one_page(own_log, tmp_path):
+    """One page, one slider: every frame moves the simulated robot to the run's pose and the faint one to the
+    log's pose at the same time (their vehicle trails end there); no second page."""
+    from uvms.replays import log_result
+    from uvms.view.animate import replay as frames
+    from uvms.view.plotly_html import animation_figure
+
+    model, path, _ = own_log
+    out = tmp_path / "rp"
+    assert main(["replay", "paper", str(path), "-o", str(out), "--animate"]) == 0
+    assert (out / "animation.html").is_file() and not (out / "log_animation.html").exists()
+    assert "log: vehicle trail" in (out / "animation.html").read_text()
+
+    rp = uvms.replay(model, path)
+    shifted = dataclasses.replace(rp.result, states=rp.result.states.copy())
+    shifted.states[:, 0] += 0.5                                         # tell the two robots apart
+    logged = log_result(rp.log, rp.model, times=rp.result.time)
+    sim, log = frames(shifted, rp.model), frames(logged, rp.model)
+    fig = animation_figure(sim, ghost=log)
+    names = [t.name for t in fig.data]
+    main_trail, ghost_trail = names.index("vehicle trail"), names.index("log: vehicle trail")
+    for frame in (fig.frames[0], fig.frames[len(fig.frames) // 2], fig.frames[-1]):
+        k = int(frame.name)
+        by_trace = dict(zip(frame.traces, frame.data))
+        end = lambda i: np.array([by_trace[i].x[-1], by_trace[i].y[-1], by_trace[i].z[-1]])   # noqa: E731
+        np.testing.assert_allclose(end(main_trail), sim.vehicle_path[k], atol=1e-5)
+        np.testing.assert_allclose(end(ghost_trail), log.vehicle_path[k], atol=1e-5)
+        assert abs(end(main_trail)[0] - end(ghost_trail)[0] - 0.5) < 0.05

@@ -4,8 +4,8 @@ The vehicle starts from the log's pose and velocities and moves freely; the join
 exactly (prescribed motion). Writes ``DIR/result.csv`` and ``DIR/result.json`` (the run, as ``uvms run``
 writes it, in the log's frame convention), ``DIR/comparison.json`` (RMSE of roll, pitch, yaw change and depth
 change against the log, beside the no-skill score of the start held), ``DIR/comparison.png`` (log and
-simulation per signal) and, with ``--animate``, ``DIR/animation.html`` (the simulation) and
-``DIR/log_animation.html`` (the logged motion) in 3-D. Nothing is written before the model and the log are
+simulation per signal) and, with ``--animate``, ``DIR/animation.html``: the simulated robot and the logged
+motion (faint grey) in one 3-D scene on one time slider. Nothing is written before the model and the log are
 valid; the folder is written whole or not at all (``docs/logs.md``, "Replaying").
 """
 
@@ -34,7 +34,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--grid", type=float, default=None, metavar="SECONDS",
                         help="spacing of the comparison (default 0.04 s)")
     parser.add_argument("--animate", action="store_true",
-                        help="also write animation.html (the simulation) and log_animation.html (the log) in 3-D")
+                        help="also write animation.html: the simulation and the logged motion (faint) in one 3-D page")
     parser.add_argument("--force", action="store_true",
                         help="replace an earlier replay folder even if files were added to it or changed since")
 
@@ -83,11 +83,12 @@ def write_replay(rp, out: Path, *, force: bool = False, animate: bool = False) -
         save_figure(rp.figure(), tmp / "comparison.png")
         if animate:
             from uvms.replays import log_result
-            from uvms.view.animate import replay as frames, write_replay_html
+            from uvms.view.animate import drawable_samples, replay as frames, write_replay_html
 
-            write_replay_html(frames(rp.result, rp.model, title=f"{rp.name}: simulation"), tmp / "animation.html")
-            write_replay_html(frames(log_result(rp.log, rp.model), rp.model, title=f"{rp.name}: log"),
-                              tmp / "log_animation.html")
+            title = f"{rp.name}: simulation (solid) and log (faint grey)"
+            logged = log_result(rp.log, rp.model, times=rp.result.time[:drawable_samples(rp.result)])
+            write_replay_html(frames(rp.result, rp.model, title=title), tmp / "animation.html",
+                              ghost=frames(logged, rp.model), ghost_name="log")
 
 
 def _print_scores(rp, out: Path) -> None:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -83,6 +84,8 @@ class Experiment:
         inputs: what drives the run (e.g. a prescribed joint motion), as :class:`~uvms.sim.options.Inputs`.
         step: the RK4 step [s].
         frame: the frame convention the signals are in (the model's).
+        actuation: the thrusters between the inputs' commands and the vehicle
+            (:class:`~uvms.sim.options.Actuation`; ``None``: none, the thrusters off).
     """
 
     name: str
@@ -93,6 +96,7 @@ class Experiment:
     inputs: Inputs = field(default_factory=Inputs)
     step: float = 0.002
     frame: str = "ned"
+    actuation: Any = None
 
     def __post_init__(self) -> None:
         times = np.asarray(self.times, dtype=float)

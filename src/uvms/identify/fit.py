@@ -167,7 +167,7 @@ def _plans(models, experiments: Sequence[Experiment]):
     from uvms.sim.run import prepare
 
     return [prepare(m, e.initial_state, duration=e.duration, step=e.step, inputs=e.inputs,
-                    record_period=e.record_period())
+                    actuation=e.actuation, record_period=e.record_period())
             for m in models for e in experiments]
 
 

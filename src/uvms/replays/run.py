@@ -3,8 +3,9 @@
 
 :func:`replay` simulates in the **log's** frame convention (a model written in the other one is mapped onto it
 by :meth:`uvms.model.Model.in_frame`, the half turn of :mod:`uvms.frames`), so the run's roll, pitch, yaw and
-position read like the log's. The joints follow a C2 cubic spline through the logged angles sampled on a
-uniform grid at the joint stream's own spacing (:class:`uvms.sim.joint_motion.JointMotion`); the start state is
+position read like the log's. Logged thruster commands, when the log has them, drive the model file's
+thrusters (held from row to row, :func:`commands_of`); without them the thrusters are off.
+The joints follow a C2 cubic spline through the logged angles sampled on a uniform grid at the joint stream's own spacing (:class:`uvms.sim.joint_motion.JointMotion`); the start state is
 the log's (:meth:`uvms.Log.initial_state`: pose, body velocities from a local fit) with the joints at the
 spline's start. The comparison is on a uniform grid (default 40 ms): signals of
 :mod:`uvms.identify.experiment` and the scores of :mod:`uvms.logs.score` (RMSE beside the no-skill score of the
@@ -62,6 +63,37 @@ def joint_motion_of(log, model, *, spacing: float | None = None, smoothing=None)
         if column in table.columns:
             angles[:, k] = table[column].to_numpy()
     return JointMotion.from_arrays(times, angles, joints=model.joint_names, smoothing=smoothing)
+
+
+def commands_of(log, model):
+    """``(actuation, schedule)`` of the log's thruster commands for ``model``: the model file's thrusters and a
+    :class:`~uvms.sim.inputs.CommandSchedule` of the logged commands from the replay's start (the row in force at
+    the start, then each later row at its time, held: zero-order hold); ``(None, None)`` when the log describes
+    no thrusters. The log's unit must be each thruster's command unit (``docs/logs.md``, "Thruster commands")."""
+    from uvms.sim.inputs import CommandSchedule
+    from uvms.sim.options import Actuation
+
+    if "thrusters" not in log.streams:
+        return None, None
+    stream = log.streams["thrusters"]
+    if not model.thrusters:
+        raise UvmsInputError(f"the log gives thruster commands but model {model.name!r} has no thrusters (its "
+                             f"file's thrusters: key) to replay them on", log.source, "thrusters")
+    have = [th.name for th in model.thrusters]
+    unknown = [x for x in stream.names if x not in have]
+    missing = [x for x in have if x not in stream.names]
+    if unknown or missing:
+        raise UvmsInputError("expected one command column per thruster of the model (" + ", ".join(have) + ")"
+                             + (f"; not a thruster of the model: {', '.join(unknown)}" if unknown else "")
+                             + (f"; missing {', '.join(missing)}" if missing else ""), log.source,
+                             "thrusters.columns")
+    rel = stream.time - log.start
+    first = int(np.searchsorted(rel, 1e-9, side="right")) - 1          # the row in force at the start
+    last = int(np.searchsorted(rel, log.duration + 1e-9, side="right"))
+    times = rel[first:last].copy()
+    times[0] = 0.0
+    schedule = CommandSchedule(times, stream.parts["commands"][first:last], names=stream.names)
+    return Actuation.named("model", model), schedule
 
 
 def start_state(log, model, motion):
@@ -149,11 +181,13 @@ def plan(model, log, *, step: float = DEFAULT_STEP, grid: float = DEFAULT_GRID, 
     log = _log_of(log)
     model = in_log_frame(model, log)
     motion = joint_motion_of(log, model, smoothing=smoothing)
+    actuation, commands = commands_of(log, model)
     times = log.grid(grid)
-    inputs = Inputs(joint_motion=motion, body_wrench=body_wrench)
+    inputs = Inputs(joint_motion=motion, body_wrench=body_wrench, thruster_commands=commands)
     name = Path(log.source).stem if log.source else "log"
     return Experiment(name, start_state(log, model, motion), log.duration, times,
-                      measured_signals(log, times, log.frame), inputs=inputs, step=step, frame=log.frame)
+                      measured_signals(log, times, log.frame), inputs=inputs, step=step, frame=log.frame,
+                      actuation=actuation)
 
 
 def replay(model, log, *, step: float = DEFAULT_STEP, grid: float = DEFAULT_GRID, smoothing=None,
@@ -179,7 +213,7 @@ def replay(model, log, *, step: float = DEFAULT_STEP, grid: float = DEFAULT_GRID
     model = in_log_frame(model, log)
     e = plan(model, log, step=step, grid=grid, smoothing=smoothing, body_wrench=body_wrench)
     result = simulate(model, e.initial_state, duration=e.duration, step=e.step, inputs=e.inputs,
-                      record_period=e.record_period(), progress=progress)
+                      actuation=e.actuation, record_period=e.record_period(), progress=progress)
     simulated = result_signals(result, e.times, COMPARED, e.frame)
     held = {name: np.full(e.times.size, values[0]) for name, values in e.measured.items()}
     scores = log.score(e.times, roll=simulated["roll"], pitch=simulated["pitch"],
@@ -194,15 +228,15 @@ def _depth(result, times, frame: str) -> np.ndarray:
     return depth(np.interp(times, result.time, result.position[:, 2]), frame)
 
 
-def log_result(log, model, *, grid: float = DEFAULT_GRID):
+def log_result(log, model, *, grid: float = DEFAULT_GRID, times=None):
     """The logged motion as a :class:`~uvms.sim.result.Result` of ``model`` (in the log's frame convention) on
-    a uniform grid: pose and joint angles from the log, velocities and torques zero (for drawing it, e.g. in
-    3-D beside the simulation)."""
+    a uniform grid (or at ``times`` [s from the start], e.g. a simulation's rows): pose and joint angles from the
+    log, velocities and torques zero (for drawing it, e.g. in 3-D beside the simulation)."""
     from uvms.dynamics.poses import end_effector_position
     from uvms.sim.result import Result
     from uvms.state import StateLayout
 
-    times = log.grid(grid)
+    times = log.grid(grid) if times is None else log.check_times(times)
     table = log.resample(times)
     layout = StateLayout(model.n_joints)
     states = np.zeros((times.size, layout.size))

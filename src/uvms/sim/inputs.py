@@ -1,7 +1,9 @@
-"""Inputs of a run: joint-torque schedules and time tables for the current (paper Section 6's torques).
+"""Inputs of a run: joint-torque and thruster-command schedules and time tables for the current (paper
+Section 6's torques).
 
 A :class:`TorqueSchedule` is piecewise constant: ``torques[k]`` applies for ``times[k] <= t < times[k+1]``
-(the last row until the end). A :class:`CurrentTable` holds world-frame current velocity and fluid
+(the last row until the end); so is a :class:`CommandSchedule` of the thrusters' commands (a log's, replayed).
+A :class:`CurrentTable` holds world-frame current velocity and fluid
 acceleration at given times, interpolated linearly; a Python callable ``current(t) -> (3,)`` is sampled onto
 such a table on the integrator's half-step grid, so RK4 sees it exactly at every stage.
 """
@@ -44,6 +46,63 @@ class TorqueSchedule:
     @classmethod
     def constant(cls, torques) -> "TorqueSchedule":
         return cls(times=np.array([0.0]), torques=np.atleast_2d(np.asarray(torques, dtype=float)))
+
+
+@dataclass(frozen=True)
+class CommandSchedule:
+    """Piecewise-constant actuator commands: ``commands[k]`` held from ``times[k]`` to ``times[k+1]`` (the last
+    row until the end), as a logged command is held until the next one (zero-order hold).
+
+    Each column is one thruster's command in that thruster's own unit (:mod:`uvms.thrusters.kinds`: thrust [N]
+    for ideal and first-order thrusters, voltage [V] for Healey's, the table's command, e.g. an ESC pulse width
+    [us], for a table thruster). ``names`` label the columns with the actuation's thruster names (any order;
+    every thruster must have one); ``None``: the actuation's order. A run holds the row in force at each RK4
+    step's start over the whole step (the commands change on the step grid).
+    """
+
+    times: np.ndarray              # (K,) increasing, times[0] == 0 [s]
+    commands: np.ndarray           # (K, m) in each thruster's command unit
+    names: tuple[str, ...] | None = None
+
+    def __post_init__(self) -> None:
+        t = checks.vector(self.times, None, "times", " [s]")
+        u = checks.matrix(self.commands, t.size, None, "commands", " (one row per time, one column per thruster)")
+        if t.size == 0 or t[0] != 0.0 or np.any(np.diff(t) <= 0):
+            raise checks.fail("times", "expected times that start at 0 and increase")
+        names = self.names
+        if names is not None:
+            names = tuple(names)
+            if len(names) != u.shape[1] or len(set(names)) != len(names) or not all(
+                    isinstance(x, str) and x for x in names):
+                raise checks.fail("names", f"expected {u.shape[1]} distinct thruster names (one per column), got "
+                                           f"{checks.show(self.names)}")
+        object.__setattr__(self, "times", t)
+        object.__setattr__(self, "commands", u)
+        object.__setattr__(self, "names", names)
+
+    def __call__(self, t: float) -> np.ndarray:
+        k = int(np.searchsorted(self.times, t + 1e-12, side="right") - 1)
+        return self.commands[max(k, 0)]
+
+    def for_thrusters(self, thrusters) -> np.ndarray:
+        """(K, m) the columns in the order of ``thrusters`` (each with a ``name``); a one-line error when a
+        thruster has no column or a column names no thruster."""
+        have = tuple(th.name for th in thrusters)
+        if not have:
+            raise checks.fail("thruster_commands", "expected thrusters to command (the actuation has none: pass "
+                                                   "actuation=Actuation.named('model', model))")
+        if self.names is None:
+            if self.commands.shape[1] != len(have):
+                raise checks.fail("thruster_commands", f"expected {len(have)} command columns (one per thruster: "
+                                                       f"{', '.join(have)}), got {self.commands.shape[1]}")
+            return self.commands
+        missing = [x for x in have if x not in self.names]
+        unknown = [x for x in self.names if x not in have]
+        if missing or unknown:
+            raise checks.fail("thruster_commands", "expected a command column for every thruster ("
+                              + ", ".join(have) + ")" + (f"; missing {', '.join(missing)}" if missing else "")
+                              + (f"; not a thruster: {', '.join(unknown)}" if unknown else ""))
+        return self.commands[:, [self.names.index(x) for x in have]]
 
 
 def paper_torques() -> TorqueSchedule:

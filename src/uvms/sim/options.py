@@ -56,6 +56,8 @@ class Inputs:
         joint_motion: a :class:`~uvms.sim.joint_motion.JointMotion`: every joint follows it exactly (hybrid
             dynamics; the torques it takes are the result's ``joint_torques``), instead of ``joint_torques``.
             Runs with RK4 and no controller; the initial state's ``q, qd`` are the motion's at ``t = 0``.
+        thruster_commands: a :class:`~uvms.sim.inputs.CommandSchedule`: the thrusters' held commands from a
+            table (a log's), with a ``joint_motion`` (the replay's loop) and an actuation that has thrusters.
         flow: the water as a :class:`~uvms.hydro.flow.Flow` (a current table plus depth profile, gridded field
             and linear waves, each body in the water at its own position; ``docs/flow.md``), instead of
             ``current``.
@@ -68,6 +70,7 @@ class Inputs:
     fixed_base: bool = False
     control_period: float | None = None
     joint_motion: Any = None
+    thruster_commands: Any = None
     flow: Any = None
 
 

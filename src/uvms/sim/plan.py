@@ -15,7 +15,7 @@ from uvms import checks
 from uvms.checks import MAX_RECORDED_VALUES
 from uvms.dynamics.plant import Held, Plant, build_plant, fluid_table, held_inputs
 from uvms.hydro.flow import FlowData
-from uvms.sim.inputs import CurrentTable, TorqueSchedule
+from uvms.sim.inputs import CommandSchedule, CurrentTable, TorqueSchedule
 from uvms.sim.integrate import Samples, pack, samples
 from uvms.sim.options import Actuation, Adaptive, Inputs, Recording, Rk4
 from uvms.state import JOINTS, State, StateLayout
@@ -93,18 +93,26 @@ def checked_inputs(model, inputs: Inputs) -> Inputs:
                   current=current, fixed_base=checks.flag(inputs.fixed_base, "fixed_base"),
                   control_period=checks.optional_number(inputs.control_period, "control_period", positive=True,
                                                         unit="s"),
-                  joint_motion=inputs.joint_motion, flow=inputs.flow)
+                  joint_motion=inputs.joint_motion, thruster_commands=inputs.thruster_commands, flow=inputs.flow)
 
 
-def motion_of(model, inputs: Inputs, controller, integrator, timing: Timing, rows: int):
-    """The compiled :class:`~uvms.sim.prescribed.Motion` of ``inputs.joint_motion`` (``None`` without one), after
-    the one-line refusals: another joint input beside it, a controller, an adaptive integrator, a run longer
-    than the table (``docs/python.md``, "Prescribed joint motion")."""
+def motion_of(model, inputs: Inputs, control: tuple, integrator, timing: Timing, rows: int):
+    """The compiled :class:`~uvms.sim.prescribed.Motion` of ``inputs.joint_motion`` (``None`` without one) and
+    its thruster-command table (``control = (controller, actuation)``), after the one-line refusals: another
+    joint input beside it, a controller, an adaptive integrator, a run longer than the table, commands without
+    a motion or without thrusters (``docs/python.md``, "Prescribed joint motion")."""
     from uvms.sim.joint_motion import JointMotion
     from uvms.sim.prescribed import motion_data
 
-    motion = inputs.joint_motion
+    controller, actuation = control
+    motion, commands = inputs.joint_motion, inputs.thruster_commands
+    if commands is not None and not isinstance(commands, CommandSchedule):
+        raise checks.fail("thruster_commands", f"expected None or a uvms CommandSchedule, got {checks.show(commands)}")
     if motion is None:
+        if commands is not None:
+            raise checks.fail("thruster_commands", "expected a joint_motion with thruster_commands (the replay's "
+                                                   "loop holds them; a vehicle controller commands the thrusters "
+                                                   "otherwise)")
         return None
     if not isinstance(motion, JointMotion):
         raise checks.fail("joint_motion", f"expected None or a uvms JointMotion, got {checks.show(motion)}")
@@ -112,15 +120,17 @@ def motion_of(model, inputs: Inputs, controller, integrator, timing: Timing, row
         raise checks.fail("joint_motion", "expected joint_motion or joint_torques (a torque input or an arm "
                                           "tracker), not both: the motion decides the joint torques")
     if controller is not None:
-        raise checks.fail("joint_motion", "expected no vehicle controller with a joint motion (the replay runs "
-                                          "with the thrusters off)")
+        raise checks.fail("joint_motion", "expected no vehicle controller with a joint motion (the replay's "
+                                          "thrusters are off or follow thruster_commands)")
     if integrator.name != "rk4":
         raise checks.fail("joint_motion", f"expected the rk4 integrator with a joint motion, got "
                                           f"{integrator.name!r}")
     if timing.duration > motion.duration * (1.0 + 1e-12):
         raise checks.fail("joint_motion", f"expected a run no longer than the motion's table "
                                           f"({motion.duration:g} s), got duration {timing.duration:g} s")
-    return motion_data(*motion.for_model(model), rows)
+    table = (np.zeros(0), np.zeros((0, 0))) if commands is None else (commands.times,
+                                                                     commands.for_thrusters(actuation.thrusters))
+    return motion_data(*motion.for_model(model), rows, table)
 
 
 def checked_recording(recording: Recording) -> Recording:
@@ -241,7 +251,7 @@ class RunPlan:
             state = state.replace(nu=np.zeros(6))
         every = record_every(timing, recording)
         check_record_size(timing.n_total // every + 2, JOINTS + 2 * model.n_joints + n_act)
-        motion = motion_of(model, inputs, controller, integrator, timing, timing.n_total // every + 2)
+        motion = motion_of(model, inputs, (controller, actuation), integrator, timing, timing.n_total // every + 2)
         if motion is not None:                   # the joints start on the motion
             q0, qd0, _ = inputs.joint_motion(0.0)
             order = [inputs.joint_motion.joints.index(j) for j in model.joint_names] \

@@ -8,6 +8,11 @@ RK4 integrates the vehicle (position, quaternion, ``nu``) and the actuator state
 every step are set to the motion's at the step's end, so every recorded ``q, qd`` *is* the interpolant's at
 its row's time (the stage derivative ``q' = qd(t), qd' = qdd(t)`` is written too, for readers of ``xdot``).
 
+A log's thruster commands (``Inputs(thruster_commands=...)``, :class:`uvms.sim.inputs.CommandSchedule`) ride
+along as a piecewise-constant table (``Motion.command_times``, ``Motion.commands``): at every step's start the
+row in force (the last at or before ``t``) is copied into the held commands, which the actuators see over the
+whole step, as the ordinary loop holds a controller's commands (:func:`hold_commands`).
+
 The torques the motion takes are those of each recorded row's time and state, not a held value: the first
 stage of the step that starts at a row evaluates exactly that (kept in ``Motion.row_tau``), and the rows no
 step starts from (the last; a diverged run's) are evaluated afterwards (:func:`motion_torques`).
@@ -45,14 +50,20 @@ class Motion(NamedTuple):
     tau: np.ndarray             # (n,) the torques the motion takes [N m or N]
     row_tau: np.ndarray         # (rows, n) the torques at each recorded row, from the next step's first stage
     filled: np.ndarray          # (1,) int64: rows 0 .. filled - 1 of row_tau are set
+    command_times: np.ndarray   # (K,) [s] increasing from 0: when each row of ``commands`` takes over (K = 0: none)
+    commands: np.ndarray        # (K, m) the thrusters' commands, in the actuation's order and units
 
 
-def motion_data(breaks: np.ndarray, coefficients: np.ndarray, rows: int) -> Motion:
-    """A :class:`Motion` of fresh C-ordered arrays (every joint prescribed) for a record of ``rows`` rows."""
+def motion_data(breaks: np.ndarray, coefficients: np.ndarray, rows: int, table=None) -> Motion:
+    """A :class:`Motion` of fresh C-ordered arrays (every joint prescribed) for a record of ``rows`` rows;
+    ``table = (times, commands)`` the thrusters' command table (default: none)."""
     n = coefficients.shape[1]
+    times, commands = (np.zeros(0), np.zeros((0, 0))) if table is None else table
     return Motion(np.ascontiguousarray(breaks, dtype=float), np.ascontiguousarray(coefficients, dtype=float),
                   np.ones(n, dtype=np.bool_), *(np.zeros(n) for _ in range(6)), np.zeros((rows, n)),
-                  np.zeros(1, dtype=np.int64))
+                  np.zeros(1, dtype=np.int64), np.ascontiguousarray(times, dtype=float),
+                  np.ascontiguousarray(np.reshape(commands, (len(times), -1)) if len(times) else np.zeros((0, 0)),
+                                       dtype=float))
 
 
 @block
@@ -78,6 +89,28 @@ def motion_at(motion, t):
 
 
 @block
+def hold_commands(motion, t, command):
+    """``command[:m]`` = the command table's row in force at ``t`` [s] (the last with ``command_times[k] <= t``,
+    bisection; 1e-12 s of slack so a row at exactly a step's time takes over at that step); nothing without
+    a table."""
+    times = motion.command_times
+    K = times.shape[0]
+    if K == 0:
+        return
+    lo = 0
+    hi = K
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if times[mid] <= t + 1e-12:
+            lo = mid
+        else:
+            hi = mid
+    row = motion.commands[lo]
+    for j in range(row.shape[0]):
+        command[j] = row[j]
+
+
+@block
 def prescribed_derivative(plant, held, motion, t, x, xdot):
     """``xdot = f(t, x)`` with the joints on the motion at ``t`` (module docstring); the torques it takes in
     ``motion.tau``."""
@@ -89,8 +122,7 @@ def prescribed_derivative(plant, held, motion, t, x, xdot):
     nu = vecs[3]
     aba_prescribed_inlined(plant.body, plant.work, R, x[POSITION:QUATERNION], nu, motion.q, motion.qd, motion.qdd,
                            motion.free_torques, motion.prescribed, vecs[0], held.ee_wrench, plant.fluid, t,
-                           plant.fixed_base,
-                           xdot[NU:JOINTS], motion.qdd_out, motion.tau)
+                           plant.fixed_base, xdot[NU:JOINTS], motion.qdd_out, motion.tau)
     vehicle_rates(R, nu, qw, qx, qy, qz, xdot)
     for j in range(n):
         xdot[JOINTS + j] = motion.qd[j]
@@ -125,6 +157,7 @@ def rk4_prescribed_steps(plant, held, motion, x, h, n_steps, step0, record):
     out_x = record.states
     for step in range(n_steps):
         t = (step0 + step) * h
+        hold_commands(motion, t, held.command)
         for stage in range(4):              # one call site, so the derivative (and its hybrid ABA) is inlined once
             if stage == 0:
                 ts, xs = t, x
@@ -180,13 +213,13 @@ def motion_torques(plant, held, motion, times, states, tau):
     n = tau.shape[1]
     for r in range(times.shape[0]):
         x = states[r]
+        hold_commands(motion, times[r], held.command)
         stage_inputs(p, held, times[r], x, xdot)
         motion_at(motion, times[r])
         vecs = p.scratch.vecs
         aba_prescribed(p.body, p.work, p.scratch.R, x[POSITION:QUATERNION], vecs[3], motion.q, motion.qd, motion.qdd,
                        motion.free_torques, motion.prescribed, vecs[0], held.ee_wrench, p.fluid, times[r], p.fixed_base,
-                       xdot[NU:JOINTS],
-                       motion.qdd_out, motion.tau)
+                       xdot[NU:JOINTS], motion.qdd_out, motion.tau)
         for j in range(n):
             tau[r, j] = motion.tau[j]
 
@@ -203,6 +236,18 @@ class MotionLog:
 
     def held(self, which: np.ndarray) -> dict[str, np.ndarray]:
         return {}
+
+
+def command_signals(plan, times: np.ndarray) -> dict[str, np.ndarray]:
+    """``{"thruster_command_<thruster>": (K,)}``: the held thruster commands at each recorded row (those in force
+    over the step that starts there; the last row's, the last held), none without a command table."""
+    motion = plan.motion
+    if motion.command_times.shape[0] == 0:
+        return {}
+    h = plan.timing.h
+    steps = np.floor(np.asarray(times, dtype=float) / h + 0.5) * h         # rows lie on the step grid
+    k = np.clip(np.searchsorted(motion.command_times, steps + 1e-12, side="right") - 1, 0, None)
+    return {f"thruster_command_{th.name}": motion.commands[k, j].copy() for j, th in enumerate(plan.thrusters)}
 
 
 def row_torques(plan, times: np.ndarray, states: np.ndarray) -> np.ndarray:

@@ -123,10 +123,12 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
     update_times = np.array(log.steps) * timing.h
     which = np.clip(np.searchsorted(update_times, out_t + 0.5 * timing.h, side="right") - 1, 0, len(log.steps) - 1)
     out_tau = np.array(log.torques, dtype=float).reshape(len(log.steps), n)[which]
+    signals = log.held(which)
     if plan.motion is not None:             # a prescribed joint motion: the torques it takes at every row
-        from uvms.sim.prescribed import row_torques
+        from uvms.sim.prescribed import command_signals, row_torques
 
         out_tau = row_torques(plan, out_t, out_x)
+        signals = command_signals(plan, out_t)
     ee = np.zeros((n_out, 3))
     end_effector_path(kernel_model(plan.model), np.ascontiguousarray(out_x), ee)
     meta = {"integrator": plan.integrator.name, "step_s": timing.h, "duration_s": timing.duration,
@@ -137,7 +139,7 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
             **actuation_metadata(plan), **set_point_metadata(plan), **(plan.recording.metadata or {})}
     report_joint_limits(plan.model, out_t, out_x, out_tau, meta)
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
-                  signals=log.held(which), complete=complete,
+                  signals=signals, complete=complete,
                   message="" if complete else divergence_message(plan, outcome), metadata=meta)
 
 

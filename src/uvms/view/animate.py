@@ -155,11 +155,13 @@ def replay_figure(rp: Replay, *, start: int = 0):
     return animation_figure(rp, start=start)
 
 
-def write_replay_html(rp: Replay, path, *, start: int = 0) -> Path:
-    """Write the replay as one self-contained HTML page (atomically)."""
-    from uvms.view.plotly_html import write_html
+def write_replay_html(rp: Replay, path, *, start: int = 0, ghost: Replay | None = None,
+                      ghost_name: str = "log") -> Path:
+    """Write the replay as one self-contained HTML page (atomically); ``ghost``: a second robot on the same
+    frame times drawn faint in the same scene (:func:`uvms.view.plotly_html.animation_figure`)."""
+    from uvms.view.plotly_html import animation_figure, write_html
 
-    fig = replay_figure(rp, start=start)
+    fig = animation_figure(rp, start=start, ghost=ghost, ghost_name=ghost_name)
     return write_html(fig, path, frame_names=[f.name for f in fig.frames], times=rp.times)
 
 

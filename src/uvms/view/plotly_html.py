@@ -29,6 +29,9 @@ COM_COLOR = "#111111"
 COB_COLOR = "#17becf"
 VEHICLE_TRAIL_COLOR = "#b8860b"
 EE_TRAIL_COLOR = "#e377c2"
+GHOST_COLOR = "#7f7f7f"
+"""The second robot of a comparison page (a log's motion beside the simulation), drawn faint."""
+GHOST_OPACITY = 0.3
 WORLD_LABELS = ("x north", "y east", "z down")
 """The ned world's axis labels (a scene's own are :attr:`Scene.world_labels`)."""
 
@@ -206,14 +209,33 @@ def add_player(layout: dict, *, fps: float, times, names: list[str], start: int 
                                        mode="immediate")]) for t, name in zip(times, names)])]
 
 
-def animation_figure(replay, *, start: int = 0):
+def ghost_traces(scene: Scene, snap: Snapshot, name: str) -> list:
+    """A second robot's shapes, one faint grey mesh per shape in one legend entry ``name`` (the order of
+    :func:`ghost_points`)."""
+    return [_mesh(V, F, name=name, color=GHOST_COLOR, opacity=GHOST_OPACITY, showlegend=k == 0, legendgroup=name,
+                  hover=f"{name}: {prim.name or prim.kind}")
+            for k, (prim, (V, F)) in enumerate(zip(scene.primitives, snap.meshes))]
+
+
+def ghost_points(snap: Snapshot) -> list[np.ndarray]:
+    """The points of :func:`ghost_traces`."""
+    return [np.asarray(V, dtype=np.float32) for V, _ in snap.meshes]
+
+
+def animation_figure(replay, *, start: int = 0, ghost=None, ghost_name: str = "log"):
     """A plotly figure of a :class:`uvms.view.animate.Replay`: its ``snaps`` (one per entry of ``times`` [s])
     at ``fps`` frames per second of wall time, with play/pause buttons, a time slider, trails of the vehicle
     and the end effector (``vehicle_path``, ``ee_path``, up to the current frame) and the station-keeping
-    target (``target``: the vehicle frame drawn faintly, or ``None``), from frame ``start``."""
+    target (``target``: the vehicle frame drawn faintly, or ``None``), from frame ``start``.
+
+    ``ghost``: a second replay of the same model on the same frame times (e.g. a log's motion beside its
+    simulation), drawn in the same scene as faint grey shapes with its own vehicle trail, named ``ghost_name``.
+    """
     import plotly.graph_objects as go
 
     scene, snaps, times, title, fps = replay.scene, replay.snaps, replay.times, replay.title, replay.fps
+    if ghost is not None and (len(ghost.snaps) != len(snaps) or not np.allclose(ghost.times, times, atol=1e-9)):
+        raise ValueError("the second robot must have the first's frame times")
     target, vehicle_path, ee_path = replay.target, replay.vehicle_path, replay.ee_path
     static = world_traces(scene)
     if target is not None:
@@ -232,14 +254,23 @@ def animation_figure(replay, *, start: int = 0):
                 go.Scatter3d(x=ee_path[: k + 1, 0], y=ee_path[: k + 1, 1], z=ee_path[: k + 1, 2], mode="lines",
                              name="end-effector trail", line=dict(color=EE_TRAIL_COLOR, width=4))]
 
+    def ghost_trail(k: int) -> list:
+        path = ghost.vehicle_path
+        return [go.Scatter3d(x=path[: k + 1, 0], y=path[: k + 1, 1], z=path[: k + 1, 2], mode="lines",
+                             name=f"{ghost_name}: vehicle trail", line=dict(color=GHOST_COLOR, width=4, dash="dot"))]
+
     start = int(np.clip(start, 0, len(snaps) - 1))
     first = moving_traces(scene, snaps[start]) + trails(start)
+    if ghost is not None:
+        first += ghost_traces(ghost.scene, ghost.snaps[start], ghost_name) + ghost_trail(start)
     kinds = [t.type for t in first]
 
     def positions(k: int) -> list:
         """Only what moves (the points): a frame's traces are merged into the drawn ones."""
         pts = moving_points(scene, snaps[k]) + [np.asarray(vehicle_path[: k + 1], dtype=np.float32),
                                                  np.asarray(ee_path[: k + 1], dtype=np.float32)]
+        if ghost is not None:
+            pts += ghost_points(ghost.snaps[k]) + [np.asarray(ghost.vehicle_path[: k + 1], dtype=np.float32)]
         return [dict(type=kind, x=p[:, 0], y=p[:, 1], z=p[:, 2]) for kind, p in zip(kinds, pts, strict=True)]
 
     moving_index = list(range(len(static), len(static) + len(first)))
@@ -248,7 +279,8 @@ def animation_figure(replay, *, start: int = 0):
     smallest = float(steps[steps > 0].min()) if np.any(steps > 0) else 1.0
     decimals = int(min(6, max(2, np.ceil(-np.log10(smallest)))))
     frames = [go.Frame(data=positions(k), traces=moving_index, name=names[k]) for k in range(len(snaps))]
-    points = np.vstack([s.points() for s in snaps] + [1.15 * scene.world_axis_length * np.eye(3)])
+    drawn = snaps + (ghost.snaps if ghost is not None else [])
+    points = np.vstack([s.points() for s in drawn] + [1.15 * scene.world_axis_length * np.eye(3)])
     fig = go.Figure(data=static + first, frames=frames)
     layout = scene_layout(equal_ranges(points), title, scene)
     add_player(layout, fps=fps, times=times, names=names, start=start, decimals=decimals)
