@@ -144,11 +144,15 @@ def test_material_acceleration_is_local_plus_convective():
 
 def test_above_the_mean_surface_the_kinematics_are_held_at_it():
     flow = Flow.constant(waves=waves(0.5, 1.5, 20.0), surface=1.0)
-    at_surface = flow.at(2.0, [1.0, 0.0, 1.0], "enu")
+    at_surface = flow.kinematics(2.0, [1.0, 0.0, 1.0], "enu")
+    just_above = flow.kinematics(2.0, [1.0, 0.0, 1.0 + 1e-9], "enu")
+    np.testing.assert_array_equal(just_above[2][:, :, 2], 0.0)        # held: no vertical derivatives
+    np.testing.assert_array_equal(just_above[2][:, :, :2], at_surface[2][:, :, :2])
     for z in (1.2, 1.5, 3.0):
-        above = flow.at(2.0, [1.0, 0.0, z], "enu")
-        np.testing.assert_array_equal(above[0], at_surface[0])
-        np.testing.assert_array_equal(above[1], at_surface[1])
+        above = flow.kinematics(2.0, [1.0, 0.0, z], "enu")
+        np.testing.assert_array_equal(above[0], at_surface[0])        # the surface's velocity
+        for got, held in zip(above, just_above):
+            np.testing.assert_array_equal(got, held)
     below = flow.at(2.0, [1.0, 0.0, 0.5], "enu")          # the surface at z = 1: 0.5 m is submerged
     assert abs(below[0][0, 0]) < abs(at_surface[0][0, 0])
 
@@ -285,13 +289,13 @@ def test_neutral_body_without_drag_follows_the_water_particle(added_mass):
     k = w.wavenumber[0]
     depth = 3.0
     flow = Flow.constant(waves=w)
-    p0 = np.array([0.0, 0.0, depth])                         # ned: 3 m deep
-    u0, _ = flow.at(0.0, p0)
+    expected = a * math.exp(-k * depth)
+    p0 = np.array([0.0, 0.0, depth - expected])              # ned: the particle of mean depth 3 m, at its crest
+    u0, _ = flow.at(0.0, p0)                                 # moving with the water there
     state = uvms.State.zero(model).replace(position=p0, nu=np.concatenate([np.zeros(3), u0[0]]))
     result = uvms.simulate(model, state, duration=10 * T, step=0.01, flow=flow)
     t = np.asarray(result.time)
     p = np.asarray(result.position)
-    expected = a * math.exp(-k * depth)
     drift = np.polyval(np.polyfit(t, p[:, 0], 1), t)       # Stokes drift ~ w k a^2 e^{2kz}: second order
     for r in range(10):                                     # each period's half peak-to-peak, both axes
         period = (t >= r * T) & (t < (r + 1) * T)
