@@ -215,7 +215,7 @@ def irregular_waves(density: Callable[[np.ndarray], np.ndarray], *, peak: float,
     ``components`` equal bins of width ``d omega``; component ``i`` has a frequency drawn uniformly inside bin
     ``i`` (so that the record does not repeat after ``2 pi / d omega``, DNV-RP-C205 3.5.10) and the amplitude
     ``a_i = sqrt(2 m0_i)`` of the bin's variance ``m0_i`` (the bin's integral of ``S``, 8-point Gauss-Legendre
-    on 16 sub-intervals), so that ``sum a_i^2 / 2`` is the spectrum's variance in the range whatever the draw.
+    on 16 sub-intervals, split at the peak), so that ``sum a_i^2 / 2`` is the spectrum's variance in the range whatever the draw.
     Phases are uniform in ``[0, 2 pi)``; with ``spreading = s`` each component gets one direction drawn from
     the cos^2s law about ``direction`` (:func:`spreading_density`), else ``direction``. The draws come from
     ``numpy.random.default_rng(seed)`` in this order: frequencies, phases, directions.
@@ -240,7 +240,7 @@ def irregular_waves(density: Callable[[np.ndarray], np.ndarray], *, peak: float,
     edges = np.linspace(lo, hi, components + 1)
     omega = edges[:-1] + rng.random(components) * np.diff(edges)
     phase = rng.random(components) * (2.0 * math.pi)
-    variance = _bin_variances(density, edges)
+    variance = _bin_variances(density, edges, peak)
     if not np.all(np.isfinite(variance)) or np.any(variance < 0.0) or variance.sum() <= 0.0:
         raise UvmsInputError("expected a spectrum with finite, non-negative density and some variance in the "
                              "frequency range", None, "spectrum")
@@ -253,17 +253,21 @@ def irregular_waves(density: Callable[[np.ndarray], np.ndarray], *, peak: float,
                           water_depth=float(water_depth))
 
 
-def _bin_variances(density: Callable[[np.ndarray], np.ndarray], edges: np.ndarray) -> np.ndarray:
+def _bin_variances(density: Callable[[np.ndarray], np.ndarray], edges: np.ndarray, peak: float) -> np.ndarray:
     """The integral of ``density`` over each bin ``[edges[i], edges[i + 1]]``: 8-point Gauss-Legendre on 16
-    equal sub-intervals of each bin."""
+    equal sub-intervals of each bin, the bin holding the peak split there first (JONSWAP's width ``s`` changes
+    at the peak, so its second derivative jumps)."""
     nodes, weights = np.polynomial.legendre.leggauss(8)
+    points = np.union1d(edges, [peak])
+    first = np.searchsorted(points, edges[:-1])               # each bin's first segment
     sub = np.linspace(0.0, 1.0, 17)
-    width = np.diff(edges)
-    left = edges[:-1, None] + width[:, None] * sub[None, :-1]           # (M, 16) sub-interval starts
+    width = np.diff(points)
+    left = points[:-1, None] + width[:, None] * sub[None, :-1]          # (segments, 16) sub-interval starts
     h = width[:, None] / 16.0
-    points = left[:, :, None] + 0.5 * h[:, :, None] * (nodes[None, None, :] + 1.0)
-    values = np.asarray(density(points), dtype=float)
-    return (0.5 * h[:, 0] * np.einsum("msk,k->m", values, weights))
+    at = left[:, :, None] + 0.5 * h[:, :, None] * (nodes[None, None, :] + 1.0)
+    values = np.asarray(density(at), dtype=float)
+    segments = 0.5 * h[:, 0] * np.einsum("msk,k->m", values, weights)
+    return np.add.reduceat(segments, first)
 
 
 def elevation(components: WaveComponents, t, x, y) -> np.ndarray:
