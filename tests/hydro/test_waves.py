@@ -12,8 +12,8 @@ from scipy.integrate import quad
 from scipy.optimize import minimize_scalar
 
 from uvms.errors import UvmsInputError
-from uvms.hydro.waves import (DEFAULT_RANGE, WaveComponents, elevation, irregular_waves, jonswap, pierson_moskowitz,
-                              regular_waves, significant_height, spreading_density, table_spectrum, wavenumber)
+from uvms.hydro.waves import (DEFAULT_RANGE, Spectrum, WaveComponents, elevation, irregular_waves, jonswap,
+                              pierson_moskowitz, regular_waves, significant_height, spreading_density, table_spectrum, wavenumber)
 
 G = 9.81
 
@@ -93,6 +93,20 @@ def test_jonswap_written_out_moments_and_peak(gamma):
     assert peak == pytest.approx(wp, rel=1e-6)
 
 
+def test_spectrum_constructors_default_range_and_refusals():
+    wp = 2 * math.pi / 4.0
+    spectrum = Spectrum.jonswap(0.5, 4.0)
+    assert spectrum.peak == pytest.approx(wp) and spectrum.frequency_range == pytest.approx((0.5 * wp, 4 * wp))
+    assert np.array_equal(spectrum.density(np.array([1.0, 2.0])), jonswap(np.array([1.0, 2.0]), 0.5, 4.0, 3.3))
+    for call, field in ((lambda: Spectrum.jonswap(0.0, 4.0), "significant_height"),
+                        (lambda: Spectrum.pierson_moskowitz(0.5, -1.0), "peak_period"),
+                        (lambda: Spectrum.jonswap(0.5, 4.0, 0.5), "peak_factor"),
+                        (lambda: Spectrum.table([1.0, 1.0], [0.0, 1.0]), "table")):
+        with pytest.raises(UvmsInputError) as info:
+            call()
+        assert info.value.path == field
+
+
 def test_jonswap_with_peak_factor_one_is_pierson_moskowitz():
     w = np.linspace(0.2, 4.0, 50)
     assert np.array_equal(jonswap(w, 1.0, 5.0, 1.0), pierson_moskowitz(w, 1.0, 5.0))
@@ -105,7 +119,7 @@ def _sea(seed=7, components=50, spectrum=None, **kwargs):
     hs, tp = 0.5, 4.0
     wp = 2 * math.pi / tp
     density = spectrum or (lambda w: jonswap(w, hs, tp, 3.3))
-    return irregular_waves(density, peak=wp, frequency_range=(DEFAULT_RANGE[0] * wp, DEFAULT_RANGE[1] * wp),
+    return irregular_waves(Spectrum(density, wp, (DEFAULT_RANGE[0] * wp, DEFAULT_RANGE[1] * wp)),
                            components=components, seed=seed, water_depth=20.0, gravity=G, **kwargs)
 
 
@@ -182,8 +196,7 @@ def test_elevation_record_variance_is_the_spectrum_variance_within_sampling_erro
 def test_peak_outside_the_frequency_range_is_refused():
     wp = 2 * math.pi / 4.0
     with pytest.raises(UvmsInputError, match="peak") as info:
-        irregular_waves(lambda w: pierson_moskowitz(w, 0.5, 4.0), peak=wp, frequency_range=(2 * wp, 4 * wp),
-                        components=10)
+        irregular_waves(Spectrum.pierson_moskowitz(0.5, 4.0, frequency_range=(2 * wp, 4 * wp)), components=10)
     assert info.value.path == "frequency_range"
 
 
@@ -191,16 +204,18 @@ def test_peak_outside_the_frequency_range_is_refused():
                                            ({"frequency_range": (2.0, 1.0)}, "frequency_range"),
                                            ({"spreading": -1.0}, "spreading"), ({"water_depth": 0.0}, "water_depth")])
 def test_irregular_refusals_name_the_field(kwargs, field):
-    args = {"peak": 1.5, "frequency_range": (0.5, 6.0), "components": 10} | kwargs
+    span = kwargs.pop("frequency_range", (0.5, 6.0))
+    args = {"components": 10} | kwargs
     with pytest.raises(UvmsInputError) as info:
-        irregular_waves(lambda w: pierson_moskowitz(w, 0.5, 4.0), **args)
+        irregular_waves(Spectrum(lambda w: pierson_moskowitz(w, 0.5, 4.0), 1.5, span), **args)
     assert info.value.path == field
 
 
 def test_table_spectrum_is_linear_between_points_and_zero_outside():
     density = table_spectrum([1.0, 2.0, 3.0], [0.0, 1.0, 0.0])
     assert np.allclose(density(np.array([0.5, 1.5, 2.0, 2.25, 3.5])), [0.0, 0.5, 1.0, 0.75, 0.0])
-    sea = irregular_waves(density, peak=2.0, frequency_range=(1.0, 3.0), components=40, seed=1)
+    sea = irregular_waves(Spectrum(density, 2.0, (1.0, 3.0)), components=40, seed=1)
+    assert Spectrum.table([1.0, 2.0, 3.0], [0.0, 1.0, 0.0])[1:] == (2.0, (1.0, 3.0))
     assert 0.5 * np.sum(sea.amplitude ** 2) == pytest.approx(1.0, rel=1e-12)        # triangle of area 1
 
 

@@ -76,7 +76,8 @@ def test_irregular_jonswap_sea_has_the_spectrum_variance_in_its_range():
 
 def test_table_spectrum_and_frequency_range():
     table = {"frequencies": [0.5, 1.0, 1.5], "densities": [0.0, 0.02, 0.0]}
-    parts = scenario({"waves": {"type": "irregular", "spectrum": "table", "table": table, "components": 20}}).flow_parts()
+    waves = {"type": "irregular", "spectrum": "table", "table": table, "components": 20}
+    parts = scenario({"waves": waves}).flow_parts()
     assert 0.5 * np.sum(parts["waves"].amplitude ** 2) == pytest.approx(0.01, rel=1e-12)
     assert np.all((parts["waves"].omega > 0.5) & (parts["waves"].omega < 1.5))
 

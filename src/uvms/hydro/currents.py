@@ -88,8 +88,8 @@ def current_profile(depth, velocity, *, source: str | None = None, field: str = 
                              f"{field}.velocity")
     for name, values in (("depth", d), ("velocity", v)):
         if not np.all(np.isfinite(values)):
-            raise UvmsInputError(f"expected finite numbers, found {show(values.ravel()[~np.isfinite(values.ravel())][0])}",
-                                 source, f"{field}.{name}")
+            bad = values.ravel()[~np.isfinite(values.ravel())][0]
+            raise UvmsInputError(f"expected finite numbers, found {show(bad)}", source, f"{field}.{name}")
     _increasing(d, source, f"{field}.depth")
     return CurrentProfile(depth=d.copy(), velocity=v.copy())
 

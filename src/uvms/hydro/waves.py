@@ -161,6 +161,61 @@ def table_spectrum(frequencies, densities) -> Callable[[np.ndarray], np.ndarray]
     return density
 
 
+class Spectrum(NamedTuple):
+    """A spectrum to discretise: ``density(omega)`` [m^2 s/rad], its ``peak`` frequency [rad/s] and the
+    ``frequency_range`` ``(lo, hi)`` [rad/s] its components are drawn from (:func:`irregular_waves`)."""
+
+    density: Callable[[np.ndarray], np.ndarray]
+    peak: float
+    frequency_range: tuple[float, float]
+
+    @classmethod
+    def jonswap(cls, significant_height: float, peak_period: float, peak_factor: float = 3.3,
+                frequency_range: tuple[float, float] | None = None) -> Spectrum:
+        """:func:`jonswap` (range: :data:`DEFAULT_RANGE` times ``omega_p`` unless given)."""
+        _positive(significant_height, "significant_height")
+        _positive(peak_period, "peak_period")
+        if not (1.0 <= peak_factor <= 7.0):
+            raise UvmsInputError(f"expected a peak factor in 1..7 (DNV-RP-C205 3.5.5), found {peak_factor!r}", None,
+                                 "peak_factor")
+
+        def density(omega):
+            return jonswap(omega, significant_height, peak_period, peak_factor)
+
+        return cls._analytic(density, peak_period, frequency_range)
+
+    @classmethod
+    def pierson_moskowitz(cls, significant_height: float, peak_period: float,
+                          frequency_range: tuple[float, float] | None = None) -> Spectrum:
+        """:func:`pierson_moskowitz` (range: :data:`DEFAULT_RANGE` times ``omega_p`` unless given)."""
+        _positive(significant_height, "significant_height")
+        _positive(peak_period, "peak_period")
+
+        def density(omega):
+            return pierson_moskowitz(omega, significant_height, peak_period)
+
+        return cls._analytic(density, peak_period, frequency_range)
+
+    @classmethod
+    def table(cls, frequencies, densities, frequency_range: tuple[float, float] | None = None) -> Spectrum:
+        """:func:`table_spectrum`; its peak is the frequency of the largest density, its range the table's
+        unless given."""
+        f = np.asarray(frequencies, dtype=float)
+        s = np.asarray(densities, dtype=float)
+        if f.ndim != 1 or f.size < 2 or s.shape != f.shape or not np.all(np.isfinite(f)) or \
+                not np.all(np.isfinite(s)) or np.any(np.diff(f) <= 0) or f[0] <= 0 or np.any(s < 0):
+            raise UvmsInputError("expected increasing positive frequencies with one finite density >= 0 each",
+                                 None, "table")
+        span = (float(f[0]), float(f[-1])) if frequency_range is None else frequency_range
+        return cls(table_spectrum(f, s), float(f[int(np.argmax(s))]), span)
+
+    @classmethod
+    def _analytic(cls, density, peak_period, frequency_range) -> Spectrum:
+        wp = peak_frequency(peak_period)
+        span = (DEFAULT_RANGE[0] * wp, DEFAULT_RANGE[1] * wp) if frequency_range is None else frequency_range
+        return cls(density, wp, (float(span[0]), float(span[1])))
+
+
 # ---------------------------------------------------------------------------------------------- spreading
 
 
@@ -206,16 +261,18 @@ def regular_waves(height: float, period: float, *, direction: float = 0.0, water
                           phase=np.array([float(phase)]), water_depth=float(water_depth))
 
 
-def irregular_waves(density: Callable[[np.ndarray], np.ndarray], *, peak: float, frequency_range: tuple[float, float],
-                    components: int, seed: int | None = None, direction: float = 0.0, spreading: float | None = None,
-                    water_depth: float = math.inf, gravity: float = 9.81) -> WaveComponents:
-    """The components of a spectrum ``density(omega)`` [m^2 s/rad] whose peak is ``peak`` [rad/s].
+def irregular_waves(spectrum: Spectrum, *, components: int, seed: int | None = None, direction: float = 0.0,
+                    spreading: float | None = None, water_depth: float = math.inf,
+                    gravity: float = 9.81) -> WaveComponents:
+    """The components of a :class:`Spectrum` (its ``density(omega)`` [m^2 s/rad], ``peak`` [rad/s] and
+    ``frequency_range``).
 
     Discretisation (``docs/environment.md``): ``frequency_range = (omega_lo, omega_hi)`` is cut into
     ``components`` equal bins of width ``d omega``; component ``i`` has a frequency drawn uniformly inside bin
     ``i`` (so that the record does not repeat after ``2 pi / d omega``, DNV-RP-C205 3.5.10) and the amplitude
     ``a_i = sqrt(2 m0_i)`` of the bin's variance ``m0_i`` (the bin's integral of ``S``, 8-point Gauss-Legendre
-    on 16 sub-intervals, split at the peak), so that ``sum a_i^2 / 2`` is the spectrum's variance in the range whatever the draw.
+    on 16 sub-intervals, split at the peak), so that ``sum a_i^2 / 2`` is the spectrum's variance in the range
+    whatever the draw.
     Phases are uniform in ``[0, 2 pi)``; with ``spreading = s`` each component gets one direction drawn from
     the cos^2s law about ``direction`` (:func:`spreading_density`), else ``direction``. The draws come from
     ``numpy.random.default_rng(seed)`` in this order: frequencies, phases, directions.
@@ -227,7 +284,8 @@ def irregular_waves(density: Callable[[np.ndarray], np.ndarray], *, peak: float,
     if not isinstance(components, (int, np.integer)) or not 1 <= components <= MAX_COMPONENTS:
         raise UvmsInputError(f"expected a whole number of components in 1..{MAX_COMPONENTS}, found {components!r}",
                              None, "components")
-    lo, hi = (float(v) for v in frequency_range)
+    density, peak = spectrum.density, float(spectrum.peak)
+    lo, hi = (float(v) for v in spectrum.frequency_range)
     if not (0.0 < lo < hi and math.isfinite(hi)):
         raise UvmsInputError(f"expected 0 < lower < upper [rad/s], found [{lo:g}, {hi:g}]", None, "frequency_range")
     if not lo <= peak <= hi:

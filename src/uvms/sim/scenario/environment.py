@@ -17,8 +17,7 @@ import numpy as np
 
 from uvms.errors import UvmsInputError
 from uvms.hydro.currents import CurrentField, CurrentProfile, current_profile, power_law_profile, read_field
-from uvms.hydro.waves import (WaveComponents, irregular_waves, jonswap, pierson_moskowitz, regular_waves,
-                              table_spectrum)
+from uvms.hydro.waves import Spectrum, WaveComponents, irregular_waves, regular_waves
 from uvms.model.model import Model
 from uvms.sim.inputs import CurrentTable
 from uvms.sim.scenario.schema import EnvironmentSpec, ScenarioSpec, SpatialCurrentSpec, WavesSpec
@@ -51,16 +50,14 @@ def build_waves(spec: WavesSpec, gravity: float, source: str | None = None,
         if spec.type == "regular":
             return regular_waves(spec.height, spec.period, direction=spec.direction, water_depth=depth,
                                  gravity=gravity, phase=spec.phase)
+        span = spec.frequencies()
         if spec.spectrum == "table":
-            density = table_spectrum(spec.table.frequencies, spec.table.densities)
+            spectrum = Spectrum.table(spec.table.frequencies, spec.table.densities, span)
         elif spec.spectrum == "jonswap":
-            def density(w, hs=spec.significant_height, tp=spec.peak_period, g=spec.peak_factor):
-                return jonswap(w, hs, tp, g)
+            spectrum = Spectrum.jonswap(spec.significant_height, spec.peak_period, spec.peak_factor, span)
         else:
-            def density(w, hs=spec.significant_height, tp=spec.peak_period):
-                return pierson_moskowitz(w, hs, tp)
-        return irregular_waves(density, peak=spec.peak(), frequency_range=spec.frequencies(),
-                               components=spec.components, seed=spec.seed, direction=spec.direction,
+            spectrum = Spectrum.pierson_moskowitz(spec.significant_height, spec.peak_period, span)
+        return irregular_waves(spectrum, components=spec.components, seed=spec.seed, direction=spec.direction,
                                spreading=spec.spreading, water_depth=depth, gravity=gravity)
     except UvmsInputError as exc:
         raise UvmsInputError(exc.message, source, f"{field}.{exc.path}" if exc.path else field) from None
