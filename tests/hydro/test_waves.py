@@ -59,10 +59,6 @@ def test_dispersion_refuses_non_positive_inputs(kwargs, field):
 # ---------------------------------------------------------------------------------------------- spectra
 
 
-def _variance(density, lo=1e-3, hi=np.inf):
-    return quad(density, lo, hi, limit=400, points=None)[0]
-
-
 def test_pierson_moskowitz_moments_and_peak():
     hs, tp = 0.5, 4.0
     wp = 2 * math.pi / tp
