@@ -192,3 +192,17 @@ def test_bundled_waves_scenario_is_the_worked_example():
     assert s.spec.environment.waves.significant_height == 0.5 and s.spec.environment.waves.peak_period == 4.0
     assert significant_height(waves) == pytest.approx(0.5, rel=0.01)
     assert s.spec.controller.name == "smc-ab"
+
+
+def test_docs_environment_has_a_row_for_every_field():
+    import re
+    from pathlib import Path
+
+    import uvms.sim.scenario as scenario
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "environment.md").read_text()
+    rows = set(re.findall(r"^\| `([a-z_.]+)` \|", text, flags=re.M))
+    for spec in ("EnvironmentSpec", "WavesSpec", "SpatialCurrentSpec", "PowerLawSpec", "FieldSpec"):
+        fields = set(getattr(scenario, spec).model_fields)
+        assert fields <= rows, (spec, fields - rows)
+    assert "| `environment` |" in (Path(__file__).resolve().parents[2] / "docs" / "scenarios.md").read_text()
