@@ -81,7 +81,8 @@ class Scenario:
     def flow_parts(self) -> dict[str, Any]:
         """The keyword arguments of :class:`uvms.hydro.flow.Flow` for this scenario (uniform current, profile,
         field, waves, surface; :func:`uvms.sim.scenario.environment.flow_parts`), built once: loading builds
-        them, so that a bad wave or current input fails before anything runs."""
+        them for a scenario with waves or a current varying in space, so that a bad wave or current input fails
+        before anything runs."""
         if "flow_parts" not in self._built:
             from uvms.sim.scenario.environment import flow_parts
 
@@ -125,7 +126,10 @@ class Scenario:
         if self.spec.initial_state.trimmed:
             self.initial_state()                          # no rest attitude: fail now
         self.joint_motion()                               # a bad table, unknown joint, too short: fail now
-        self.flow_parts()                                 # bad waves, a bad current profile or field file: fail now
+        from uvms.sim.scenario.environment import has_real_water
+
+        if has_real_water(self.spec):
+            self.flow_parts()                             # bad waves, a bad current profile or field file: fail now
         if self.spec.controller is not None and "controller" not in self._built:
             self._built["controller"] = build_controller(self.spec.controller, self.model, self.source)
 
