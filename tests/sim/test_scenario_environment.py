@@ -206,3 +206,42 @@ def test_docs_environment_has_a_row_for_every_field():
         fields = set(getattr(scenario, spec).model_fields)
         assert fields <= rows, (spec, fields - rows)
     assert "| `environment` |" in (Path(__file__).resolve().parents[2] / "docs" / "scenarios.md").read_text()
+
+
+def _flow_stand_in(times, velocity, acceleration, profile=None, field=None, waves=None, surface=0.0):
+    """A stand-in for ``uvms.hydro.flow.Flow`` (built on the fluid branch) that checks the interface the two
+    issue-27 branches share: the keywords, the attribute names, shapes and dtypes."""
+    T = times.shape[0]
+    assert times.shape == (T,) and velocity.shape == (T, 3) and acceleration.shape == (T, 3)
+    assert all(a.dtype == np.float64 for a in (times, velocity, acceleration))
+    if profile is not None:
+        K = profile.depth.shape[0]
+        assert profile.velocity.shape == (K, 3) and np.all(np.diff(profile.depth) > 0)
+    if field is not None:
+        shape = (field.t.size, field.z.size, field.y.size, field.x.size, 3)
+        assert field.velocity.shape == shape and field.outside in ("hold", "zero", "error")
+        assert all(np.all(np.diff(a) > 0) for a in (field.x, field.y, field.z, field.t))
+    if waves is not None:
+        M = waves.amplitude.shape[0]
+        for name in ("amplitude", "omega", "wavenumber", "direction", "phase"):
+            assert getattr(waves, name).shape == (M,) and getattr(waves, name).dtype == np.float64
+        assert isinstance(waves.water_depth, float) and waves.water_depth > 0
+    assert isinstance(surface, float)
+    return "flow"
+
+
+def test_flow_parts_fit_the_shared_interface(tmp_path):
+    from uvms.hydro.currents import CurrentField, CurrentProfile
+    from uvms.hydro.waves import WaveComponents
+
+    assert WaveComponents._fields == ("amplitude", "omega", "wavenumber", "direction", "phase", "water_depth")
+    assert CurrentProfile._fields == ("depth", "velocity")
+    assert CurrentField._fields == ("x", "y", "z", "t", "velocity", "outside")
+    _field_csv(tmp_path / "flow.csv")
+    for environment in ({"waves": IRREGULAR | {"spreading": 2.0}}, {"waves": REGULAR},
+                        {"current": {"field": {"file": "flow.csv"}}},
+                        {"current": {"profile": {"power_law": {"surface_velocity": [0.2, 0, 0], "water_depth": 9.0}}},
+                         "waves": REGULAR}):
+        parts = scenario(environment, tmp_path).flow_parts()
+        assert set(parts) == {"times", "velocity", "acceleration", "profile", "field", "waves", "surface"}
+        assert _flow_stand_in(**parts) == "flow"
