@@ -245,3 +245,16 @@ def test_flow_parts_fit_the_shared_interface(tmp_path):
         parts = scenario(environment, tmp_path).flow_parts()
         assert set(parts) == {"times", "velocity", "acceleration", "profile", "field", "waves", "surface"}
         assert _flow_stand_in(**parts) == "flow"
+
+
+def test_bundled_sea_state_sweep_grids_height_period_and_seed():
+    from uvms.sweep import load_sweep
+
+    sweep = load_sweep("bluerov2_waves_sea_states")
+    assert len(sweep.runs) == 3 * 2 * 3 * 2
+    states = {tuple(r.parameters.values()) for r in sweep.runs}
+    assert states == {(h, t, s) for h in (0.25, 0.5, 1.0) for t in (4.0, 6.0) for s in (1, 2, 3)}
+    run = next(r for r in sweep.runs if tuple(r.parameters.values()) == (1.0, 6.0, 2))
+    waves = scenario_from_data(sweep.scenario_data(run)).flow_parts()["waves"]
+    assert significant_height(waves) == pytest.approx(1.0, rel=0.01)
+    assert not np.array_equal(waves.phase, load_scenario("bluerov2_heavy_alpha5_waves").flow_parts()["waves"].phase)
