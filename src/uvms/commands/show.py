@@ -24,7 +24,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="vehicle roll pitch yaw (ZYX Euler angles) [rad] (default: 0 0 0)")
     parser.add_argument("--scenario", metavar="SCENARIO", default=None,
                         help="also draw the free surface and current arrows of this scenario's environment at t = 0 "
-                             "(waves, a depth profile or a gridded field; .html output only; docs/environment.md)")
+                             "(waves, a depth profile or a gridded field; docs/environment.md)")
     parser.add_argument("-o", "--output", metavar="FILE", default=None,
                         help="FILE.html (interactive, works offline), or FILE.png/.pdf/.svg/.jpg (static); "
                              "default: <model name>.html in the working folder, which never replaces a file "
@@ -78,8 +78,6 @@ def run(args: argparse.Namespace) -> int:
 
     flow = None
     if getattr(args, "scenario", None) is not None:
-        if kind != "html":
-            raise UvmsInputError("draws the water on .html pages only", None, "--scenario")
         from uvms.sim.scenario import load_scenario
         from uvms.view.water import flow_of_scenario
 
@@ -93,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         from uvms.plots import save_figure
 
-        save_figure(picture(model, state), output, dpi=130)
+        save_figure(picture(model, state, flow=flow), output, dpi=130)
     if record:
         record_written(output)
     print(f"{model.name} drawn to {output}")

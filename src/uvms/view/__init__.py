@@ -111,7 +111,7 @@ def show(model, state=None, *, q=None, thrusters=None, title: str | None = None,
     return pose_figure(scene, snap, title=title or _title(model, state), water=water)
 
 
-def picture(model, state=None, *, q=None, thrusters=None, title: str | None = None):
+def picture(model, state=None, *, q=None, thrusters=None, title: str | None = None, flow=None, time: float = 0.0):
     """:func:`show` as a static matplotlib Figure (for ``.png``, ``.pdf``, ``.svg``)."""
     import numpy as np
 
@@ -120,8 +120,15 @@ def picture(model, state=None, *, q=None, thrusters=None, title: str | None = No
 
     model = as_model(model)
     scene, snap, state = _snapshot(model, state, q, thrusters)
-    ranges = equal_ranges(np.vstack([snap.points(), 1.15 * scene.world_axis_length * np.eye(3)]))
-    return png.pose_figure(scene, snap, ranges, title=title or _title(model, state))
+    points = [snap.points(), 1.15 * scene.world_axis_length * np.eye(3)]
+    water = None
+    if flow is not None:
+        from uvms.view.water import water_drawing
+
+        water = water_drawing(flow, model.convention, [time], snap.points())
+        points.append(water.points())
+    ranges = equal_ranges(np.vstack(points))
+    return png.pose_figure(scene, snap, ranges, title=title or _title(model, state), water=water)
 
 
 def animate_run(result, model=None, *, fps: float = DEFAULT_FPS, speed: float = 1.0,
