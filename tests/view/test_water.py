@@ -9,10 +9,11 @@ import math
 import numpy as np
 import pytest
 
-from tests.view.conftest import run_cli, synthetic_result
 from uvms.hydro.currents import current_field, current_profile
 from uvms.hydro.waves import regular_waves
 from uvms.view.water import water_drawing
+
+from .conftest import run_cli, synthetic_result
 
 
 def parts(waves=None, profile=None, field=None, surface=0.0, times=(0.0,), velocity=((0.0, 0.0, 0.0),)):
