@@ -440,7 +440,7 @@ def model_from_robot(robot, source: str, extras: VehicleExtras, tags=None, balan
     joint_names = {joint.name for joint in robot.joints}
     extras = replace(extras, links=dict(extras.links))
     _add_link_hydro(extras, tags, robot, root, source, origins)
-    frozen, pinned, notes = _frozen_joints(robot, children, links, extras, tags, source)
+    frozen, pinned, notes = _frozen_joints(robot, children, links, root, extras, tags, source)
     extras = replace(extras, fixed_joints=tuple(extras.fixed_joints) + tuple(frozen))
     for k, name in enumerate(extras.fixed_joints):
         if name not in joint_names:
@@ -549,34 +549,39 @@ def _add_link_hydro(extras, tags, robot, root: str, source: str, origins: dict |
                 origins[f"{name}: {quantity}"] = origin
 
 
-def _subtree_body_inertia(robot, joint, frozen: set[str], source: str) -> np.ndarray:
+def _subtree_body_inertia(links, children, joint, frozen: set[str], source: str) -> np.ndarray:
     """6x6 rigid inertia, about the joint's child frame, of the body the joint moves: its child link and every
-    link fixed (or frozen) to it."""
-    links = {link.name: link for link in robot.links}
+    link fixed (or frozen) to it (inertias breaking the triangle inequality balanced here: they are refused or
+    balanced with their message when the tree is built)."""
     total = np.zeros((6, 6))
     stack = [(joint.child, np.eye(3), np.zeros(3))]
     while stack:
         name, R, p = stack.pop()
-        total += _to_body(_link_inertia(links[name], source, None), R, p)
-        for j in robot.joints:
-            if j.parent == name and (j.type == "fixed" or j.name in frozen):
+        total += _to_body(_link_inertia(links[name], source, []), R, p)
+        for j in children[name]:
+            if j.type == "fixed" or j.name in frozen:
                 R_o, p_o = _pose(j.origin)
                 stack.append((j.child, R @ R_o, p + R @ p_o))
     return total
 
 
-def _carried_mass(robot, name: str) -> float:
+def _carried_masses(robot, children, root: str) -> dict[str, float]:
+    """Mass of each link and of everything it carries, by link name."""
     links = {link.name: link for link in robot.links}
-    total, stack = 0.0, [name]
+    order, stack = [], [root]
     while stack:
-        link = links[stack.pop()]
-        if link.inertial is not None and link.inertial.mass is not None:
-            total += float(link.inertial.mass)
-        stack.extend(j.child for j in robot.joints if j.parent == link.name)
-    return total
+        name = stack.pop()
+        order.append(name)
+        stack.extend(j.child for j in children[name])
+    carried: dict[str, float] = {}
+    for name in reversed(order):
+        inertial = links[name].inertial
+        own = float(inertial.mass) if inertial is not None and inertial.mass is not None else 0.0
+        carried[name] = own + sum(carried[j.child] for j in children[name])
+    return carried
 
 
-def _frozen_joints(robot, children, links, extras, tags, source: str):
+def _frozen_joints(robot, children, links, root: str, extras, tags, source: str):
     """``(joints to freeze, {pinned joint: its value}, notes)``: pinned joints (``lower = upper``, revolute or
     prismatic), thrusters' spin joints, and joints moving no mass or no inertia about their axis."""
     already = set(extras.fixed_joints)
@@ -605,6 +610,7 @@ def _frozen_joints(robot, children, links, extras, tags, source: str):
             continue
         frozen.append(joint.name)
     done = already | set(frozen)
+    carried = _carried_masses(robot, children, root)
     for joint in robot.joints:
         if joint.type not in MOVING or joint.name in done or joint.mimic is not None:
             continue
@@ -613,12 +619,12 @@ def _frozen_joints(robot, children, links, extras, tags, source: str):
         if not norm > 0:
             continue                     # refused later with its own message
         axis = axis / norm
-        I = _subtree_body_inertia(robot, joint, done, source)
+        I = _subtree_body_inertia(links, children, joint, done, source)
         if joint.type == "prismatic":
             along, scale = float(I[3, 3]), float(I[3, 3])
         else:
             along, scale = float(axis @ I[:3, :3] @ axis), float(np.trace(I[:3, :3]))
-        if _carried_mass(robot, joint.child) <= 0.0 or not along > 1e-9 * max(scale, 1e-300):
+        if carried[joint.child] <= 0.0 or not along > 1e-9 * max(scale, 1e-300):
             frozen.append(joint.name)
             reasons["moves no mass or no inertia about its axis"].append(joint.name)
     for reason, joints in reasons.items():
