@@ -232,3 +232,21 @@ def test_bad_sdf_one_line(tmp_path, text, message):
     with pytest.raises(UvmsInputError, match=message) as info:
         uvms.load_model(tmp_path / "bad.sdf")
     assert "\n" not in str(info.value)
+
+
+def test_validate_says_which_tag_each_hydrodynamic_number_came_from(tmp_path, capsys):
+    from uvms.cli import main
+
+    (tmp_path / "rov.sdf").write_text(fx.sdf())
+    (tmp_path / "rov.urdf").write_text(fx.uuv_urdf())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["validate", str(tmp_path / "rov.sdf")]) == 0
+        sdf_out = capsys.readouterr().out
+        assert main(["validate", str(tmp_path / "rov.urdf")]) == 0
+        urdf_out = capsys.readouterr().out
+    assert "hydrodynamics read from the file's tags:" in sdf_out
+    assert "base_link: added mass: Hydrodynamics xDotU ... nDotR" in sdf_out
+    assert "base_link: buoyancy: Buoyancy system: collision volumes" in sdf_out
+    assert "base_link: added mass: hydrodynamic_model/added_mass" in urdf_out
+    assert "base_link: buoyancy: volume" in urdf_out and "base_link: centre of buoyancy: center_of_buoyancy" in urdf_out

@@ -172,6 +172,9 @@ class Model:
     dry_mass: Any = None
     dry_com: Any = None
     convention: str = "ned"
+    hydro_sources: tuple[tuple[str, str], ...] = ()
+    """``(("<link>: <quantity>", "<tag>"), ...)``: which tag of a Gazebo file each hydrodynamic number came
+    from (``uvms validate`` lists them; empty for other files)."""
 
     def __post_init__(self) -> None:
         n = int(np.shape(self.mass)[0]) - 1

@@ -475,13 +475,13 @@ def read_sdf(path: str | os.PathLike[str]):
     return robot, tags
 
 
-def model_from_sdf(path: str | os.PathLike[str], extras=None, *, balance_inertia: bool = False, origins=None):
+def model_from_sdf(path: str | os.PathLike[str], extras=None, *, balance_inertia: bool = False):
     """The :class:`~uvms.model.model.Model` of an SDF model or world file (with a model YAML's ``extras``)."""
     from uvms.model.urdf import VehicleExtras, model_from_robot
 
     robot, tags = read_sdf(path)
     extras = extras if extras is not None else VehicleExtras(frame=None, gravity=None, density=None, current=None)
-    return model_from_robot(robot, str(path), extras, tags, balance_inertia or extras.balance_inertia, origins)
+    return model_from_robot(robot, str(path), extras, tags, balance_inertia or extras.balance_inertia)
 
 
 def is_sdf(path: str | os.PathLike[str]) -> bool:

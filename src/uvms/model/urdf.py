@@ -420,19 +420,19 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
                             extras.balance_inertia if balance_inertia is None else balance_inertia)
 
 
-def model_from_robot(robot, source: str, extras: VehicleExtras, tags=None, balance_inertia: bool = False,
-                     origins: dict | None = None) -> Model:
+def model_from_robot(robot, source: str, extras: VehicleExtras, tags=None, balance_inertia: bool = False) -> Model:
     """The :class:`Model` of a parsed robot (``yourdfpy``'s, or :mod:`uvms.model.sdf`'s in the same form) with
     the additions of ``extras`` and the Gazebo plugin tags ``tags`` (:class:`uvms.model.uuv.UuvTags`, or
     ``None``): UUV Simulator's hydrodynamics go to the links the additions do not describe, its thrusters are
     used when the additions give none; pinned joints (``lower = upper``), the thrusters' spin joints and joints
     moving no mass or no inertia about their axis are frozen (one warning lists them and the ignored tags).
-    ``origins`` (a dict) receives ``{"<body>: <quantity>": "<tag>"}`` for ``uvms validate``."""
+    Which tag each hydrodynamic number came from is kept in :attr:`Model.hydro_sources`."""
     from dataclasses import replace
 
     from uvms.model import gazebo
 
     tags = tags if tags is not None else gazebo.no_tags()
+    origins: dict[str, str] = {}
     extras = gazebo.resolved_extras(extras, tags)
     balanced: list | None = [] if balance_inertia else None
     root, children = _tree(robot, source)
@@ -491,7 +491,7 @@ def model_from_robot(robot, source: str, extras: VehicleExtras, tags=None, balan
                      (source, extras.source))
     if tags.thrusters and not extras.thrusters:
         extras = replace(extras, thrusters=gazebo.thrusters_of(tags, frames, robot, source))
-    model = _assemble(bodies, axes, frames, extras, robot.name, source)
+    model = _assemble(bodies, axes, frames, extras, robot.name, source, tuple(origins.items()))
     _warn_balanced(balanced or [], source)
     gazebo.warn_unmapped(source, notes + tags.notes, tags.ignored)
     return model
@@ -731,8 +731,10 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, place: _Placement, sources: tupl
         body.damping_link = link
 
 
-def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str) -> Model:
-    """The :class:`Model` of the bodies (in tree order), their joints' axes and the frames."""
+def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str,
+              hydro_sources: tuple = ()) -> Model:
+    """The :class:`Model` of the bodies (in tree order), their joints' axes and the frames (``hydro_sources``:
+    :attr:`Model.hydro_sources`)."""
     from uvms.hydro.shapes import shape_drag_tables
 
     nb = len(bodies)
@@ -830,7 +832,7 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
                                 for b in bodies]),
         shape_drag=shape_drag_tables([b.shapes for b in bodies]),
         shape_count=np.array([len(b.shapes) for b in bodies]),
-        convention=extras.frame,
+        convention=extras.frame, hydro_sources=hydro_sources,
     )
 
 
