@@ -158,7 +158,8 @@ def sdf(h: dict | None = None, *, world: bool = True) -> str:
              '<joint name="shoulder" type="revolute"><parent>base_link</parent><child>arm</child>'
              '<axis><xyz>0 0 1</xyz><limit><lower>-2</lower><upper>2</upper><effort>100</effort>'
              '<velocity>2</velocity></limit></axis></joint>',
-             '<link name="camera"><pose relative_to="base_link">0.5 0 0.1 0 0 0</pose></link>',
+             '<link name="camera"><pose relative_to="base_link">0.5 0 0.1 0 0 0</pose><inertial><mass>0</mass>'
+             '<inertia><ixx>0</ixx><iyy>0</iyy><izz>0</izz></inertia></inertial></link>',
              '<joint name="camera_mount" type="revolute"><parent>base_link</parent><child>camera</child>'
              '<axis><xyz>0 1 0</xyz><limit><lower>0</lower><upper>0</upper></limit></axis></joint>']
     plugins = [f'<plugin filename="gz-sim-hydrodynamics-system" name="gz::sim::systems::Hydrodynamics">'

@@ -13,7 +13,8 @@ This module joins them to the robot's tree (:func:`uvms.model.urdf.model_from_ro
 * joints are frozen (made fixed) when their limits pin them (``lower = upper``: fixed at that value), when a
   thruster spins them (the rotor is not a degree of freedom of the vehicle), or when the body they move has
   no mass or no rotational inertia about their axis (a frame or a sensor mount the dynamics could not
-  accelerate, ``docs/conventions.md`` decision 20); each is named in one warning, with every tag not mapped.
+  accelerate, ``docs/conventions.md`` decision 20); each is named in one warning (the thrusters' spin joints
+  excepted: they are always frozen), with every tag not mapped.
 """
 
 from __future__ import annotations

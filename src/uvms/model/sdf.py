@@ -14,7 +14,8 @@ gz-sim's ``Hydrodynamics.cc``, ``HydrodynamicsUtils.hh``, ``Thruster.cc``, ``Buo
   frame (``expressed_in`` may name another frame; SDF 1.4-1.6's ``use_parent_model_frame`` the model frame).
   A child link's uvms frame is its joint's frame (the URDF rule): the same as the SDF link frame whenever the
   joint pose is the identity, as it almost always is.
-* **Bodies**: ``<inertial>`` (mass, ``ixx`` ..., its ``<pose>``); joints ``revolute``, ``continuous``,
+* **Bodies**: ``<inertial>`` (mass, ``ixx`` ..., its ``<pose>``; SDFormat's defaults where absent: 1 kg, unit
+  moments, as gz-sim uses them); joints ``revolute``, ``continuous``,
   ``prismatic``, ``fixed`` with ``<limit>`` and ``<dynamics damping friction>``; ``<fluid_added_mass>`` (SDF 1.11:
   ``xx xy ... rr``, the upper triangle of the symmetric linear-first matrix about the inertial frame) as the
   link's added mass.
@@ -248,17 +249,18 @@ def _robot(model, source: str, tags: PluginTags, added: dict, shapes: dict):
         where = f"link {name!r}"
         R_u, p_u = uvms_frame[name]
         R_l, p_l = frames.pose(name)
-        inertial = None
         element = link.find("inertial")
-        if element is not None:
+        if element is None:                     # SDFormat's defaults: 1 kg, unit inertia
+            inertial = SimpleNamespace(mass=1.0, inertia=np.eye(3), origin=_origin(*_relative(R_u, p_u, R_l, p_l)))
+        else:
             R_i, p_i = frames.of(element, name, f"{where}.inertial")
             R_i, p_i = _relative(R_u, p_u, R_i, p_i)
             mass = _scalar(element, "mass", 1.0, source, f"{where}.inertial")
-            I = np.zeros((3, 3))
+            I = np.eye(3)
             inertia = element.find("inertia")
             if inertia is not None:
-                v = {k: _scalar(inertia, k, 0.0, source, f"{where}.inertial.inertia")
-                     for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+                v = {k: _scalar(inertia, k, 1.0 if k in ("ixx", "iyy", "izz") else 0.0, source,
+                                f"{where}.inertial.inertia") for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
                 I = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]],
                               [v["ixz"], v["iyz"], v["izz"]]])
             inertial = SimpleNamespace(mass=mass, inertia=I, origin=_origin(R_i, p_i))
@@ -298,7 +300,6 @@ def _robot(model, source: str, tags: PluginTags, added: dict, shapes: dict):
                 tags.ignored.append(f"{name}/collision {kind} (no volume for buoyancy)")
         shapes[name] = collisions
         out_links.append(SimpleNamespace(name=name, inertial=inertial, collisions=[], visuals=[]))
-        del R_l, p_l
     for joint in joints:
         name = joint.get("name")
         where = f"joint {name!r}"

@@ -628,7 +628,7 @@ def _frozen_joints(robot, children, links, root: str, extras, tags, source: str)
             frozen.append(joint.name)
             reasons["moves no mass or no inertia about its axis"].append(joint.name)
     for reason, joints in reasons.items():
-        if joints:
+        if joints and reason != "a thruster's spin joint":      # expected: frozen without a note
             notes.append(f"froze {len(joints)} joint(s) {reason}: {', '.join(joints[:4])}"
                          f"{' ...' if len(joints) > 4 else ''}")
     return frozen, pinned, notes
