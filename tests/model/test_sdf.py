@@ -151,8 +151,8 @@ def _bluerov2_heavy_sdf() -> str:
             f'<plugin filename="gz-sim-buoyancy-system" name="gz::sim::systems::Buoyancy">'
             f'<uniform_fluid_density>{rho!r}</uniform_fluid_density></plugin><model name="bluerov2_heavy">'
             f'<link name="base_link"><inertial><mass>{mass!r}</mass><inertia><ixx>0.26</ixx><iyy>0.23</iyy>'
-            f'<izz>0.37</izz></inertia></inertial><collision name="hull"><geometry><box><size>0.36 0.25 0.15</size></box>'
-            f'</geometry></collision></link>'
+            f'<izz>0.37</izz></inertia></inertial><collision name="hull"><geometry><box>'
+            f'<size>0.36 0.25 0.15</size></box></geometry></collision></link>'
             f'<plugin filename="gz-sim-hydrodynamics-system" name="gz::sim::systems::Hydrodynamics">'
             f'<link_name>base_link</link_name>{tags}</plugin></model></world></sdf>')
 

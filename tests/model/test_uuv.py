@@ -204,7 +204,8 @@ def test_bad_uuv_tags_one_line(tmp_path, bad, message):
 
 def test_yaml_additions_take_precedence_over_the_tags(tmp_path):
     (tmp_path / "rov.urdf").write_text(fx.uuv_urdf())
-    (tmp_path / "rov.yaml").write_text("urdf: rov.urdf\nframe: enu\nvehicle:\n  added_mass: {diagonal: [1, 1, 1, 2, 2, 2], about: origin}\n")
+    (tmp_path / "rov.yaml").write_text("urdf: rov.urdf\nframe: enu\nvehicle:\n"
+                                       "  added_mass: {diagonal: [1, 1, 1, 2, 2, 2], about: origin}\n")
     with pytest.warns(UserWarning, match=r"base_link/\* \(described by"):
         model = uvms.load_model(tmp_path / "rov.yaml")
     np.testing.assert_array_equal(np.diag(model.added_mass[0]), [1, 1, 1, 2, 2, 2])

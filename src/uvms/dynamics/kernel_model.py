@@ -173,9 +173,9 @@ def kernel_model_from(model) -> KernelModel:
 def _fossen_rows(model) -> np.ndarray:
     """:attr:`KernelModel.fossen` of a model: ``D_l``, ``D_q`` and ``[point, flag, 0, 0]`` per body."""
     nb = model.n_bodies
-    from uvms.hydro.fossen import CROSS_ROWS
+    from uvms.hydro.fossen import CROSS_ABS_END, CROSS_END, CROSS_ROWS
 
-    out = np.zeros((nb, CROSS_ROWS + 72, 6))
+    out = np.zeros((nb, CROSS_END, 6))
     out[:, 0:6] = model.damping_linear
     out[:, 6:12] = model.damping_quadratic
     out[:, 12, 0:3] = model.damping_point
@@ -183,8 +183,8 @@ def _fossen_rows(model) -> np.ndarray:
                      for i in range(nb)]
     out[:, 12, 4] = model.shape_count
     cross = np.asarray(model.damping_cross, dtype=float)
-    out[:, CROSS_ROWS:CROSS_ROWS + 36] = cross[:, 0].reshape(nb, 36, 6)
-    out[:, CROSS_ROWS + 36:CROSS_ROWS + 72] = cross[:, 1].reshape(nb, 36, 6)
+    out[:, CROSS_ROWS:CROSS_ABS_END] = cross[:, 0].reshape(nb, 36, 6)
+    out[:, CROSS_ABS_END:CROSS_END] = cross[:, 1].reshape(nb, 36, 6)
     out[:, 12, 5] = [1.0 if np.any(cross[i]) else 0.0 for i in range(nb)]
     return out
 

@@ -24,7 +24,7 @@ from uvms.hydro.added_mass import added_mass_force
 from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
 from uvms.hydro.drag import link_drag_force, vehicle_drag_force
-from uvms.hydro.fossen import fossen_cross_damping_force, fossen_damping_force
+from uvms.hydro.fossen import CROSS_ABS_END, CROSS_END, CROSS_ROWS, fossen_cross_damping_force, fossen_damping_force
 from uvms.hydro.shapes import shapes_drag_force
 from uvms.jit import block
 from uvms.kinematics import JOINT_OFFSET, JOINT_Z, joint_transform
@@ -98,7 +98,8 @@ def body_hydro_forces(km, ws, i):
         for k in range(6):
             f[DRAG, k] += ws.nu_c[k]
     if fossen[12, 5] != 0.0:
-        fossen_cross_damping_force(fossen[13:49], fossen[49:85], fossen[12], nu_r, ws.nu_c)
+        fossen_cross_damping_force(fossen[CROSS_ROWS:CROSS_ABS_END], fossen[CROSS_ABS_END:CROSS_END], fossen[12], nu_r,
+                                   ws.nu_c)
         for k in range(6):
             f[DRAG, k] += ws.nu_c[k]
     n_shapes = int(fossen[12, 4])

@@ -168,6 +168,8 @@ CROSS_ROWS = 13
 """First row of the mixed quadratic terms in a body's kernel Fossen block (``uvms.dynamics.kernel_model``):
 rows ``CROSS_ROWS + 6 i + j``, column ``k`` hold ``C[0, i, j, k]`` (the ``nu_j |nu_k|`` terms), the 36 rows after
 them ``C[1, i, j, k]`` (the ``nu_j nu_k`` terms)."""
+CROSS_ABS_END = CROSS_ROWS + 36
+CROSS_END = CROSS_ROWS + 72
 
 
 @block

@@ -214,7 +214,8 @@ class Model:
                      "link_drag_coefficient", "joint_rotation", "joint_position", "theta_offset", "ee_rotation",
                      "ee_position", "gravity", "current", "fluid_acceleration", "joint_axis", "joint_damping",
                      "joint_friction", "joint_friction_speed", "joint_limits", "link_cylinder_rotation",
-                     "link_cylinder_origin", "damping_linear", "damping_quadratic", "damping_point", "damping_cross", "shape_drag"):
+                     "link_cylinder_origin", "damping_linear", "damping_quadratic", "damping_point", "damping_cross",
+                     "shape_drag"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
         object.__setattr__(self, "shape_count", _frozen(np.reshape(self.shape_count, n + 1), dtype=np.int64))
         if (self.dry_mass is None) != (self.dry_com is None):
@@ -477,7 +478,8 @@ class Model:
 
 _TREE_FIELDS = ("joint_names", "joint_parent", "joint_type", "joint_axis", "joint_damping", "joint_friction",
                 "joint_friction_speed", "joint_limits", "link_cylinder_rotation", "link_cylinder_origin", "ee_body",
-                "frames", "damping_linear", "damping_quadratic", "damping_point", "damping_cross", "shape_drag", "shape_count",
+                "frames", "damping_linear", "damping_quadratic", "damping_point", "damping_cross", "shape_drag",
+                "shape_count",
                 "dry_mass", "dry_com")
 
 def _scale_shape_drag(table: np.ndarray, factor: float) -> np.ndarray:
