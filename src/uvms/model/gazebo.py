@@ -150,7 +150,15 @@ def thrusters_of(tags: PluginTags, frames, robot, source: str) -> tuple:
 
 def warn_unmapped(source: str, notes: list[str], ignored: list[str]) -> None:
     """One warning line: what was frozen or approximated, and the tags not mapped."""
-    parts = list(notes)
+    parts: list[str] = []
+    grouped: dict[str, list[str]] = {}
+    for note in notes:                       # "thruster 3: <text>" notes of the same text in one part
+        head, _, text = note.partition(": ")
+        if head.startswith("thruster ") and text:
+            grouped.setdefault(text, []).append(head[len("thruster "):])
+        else:
+            parts.append(note)
+    parts += [f"thruster{'s' if len(ids) > 1 else ''} {', '.join(ids)}: {text}" for text, ids in grouped.items()]
     if ignored:
         unique = list(dict.fromkeys(ignored))
         parts.append(f"{len(unique)} tag(s) not mapped: {', '.join(unique[:12])}"
