@@ -143,7 +143,7 @@ def test_pinned_thruster_and_massless_joints_frozen_with_one_note(tmp_path):
     messages = [str(w.message) for w in caught]
     assert len(messages) == 1
     assert "pinned by its limits (lower = upper): camera_mount" in messages[0]
-    assert "thruster" not in messages[0]                 # spin joints are frozen without a note
+    assert "spin joint" not in messages[0]               # spin joints are frozen without a note
     assert "not mapped: base_link/box" in messages[0]
     assert model.joint_names == ("shoulder",)
     assert [t.name for t in model.thrusters] == [f"thruster_{k}" for k in range(4)]
