@@ -311,3 +311,28 @@ def test_tethys_added_mass_close_to_rigid_mass_runs_stably(tmp_path, added_scale
         assert not np.all(np.isfinite(lagged)) or np.abs(lagged).max() > 1e6
     else:
         assert np.abs(lagged[-1]) < 0.2
+
+
+def test_fluid_added_mass_about_the_inertial_frame(tmp_path, rng):
+    """``<fluid_added_mass>`` (SDF 1.11) about an offset, turned inertial frame: its kinetic energy
+    ``v_c^T M v_c / 2`` with ``v_c`` the inertial frame's velocity in its own axes equals uvms's
+    ``nu^T I_A nu / 2`` about the link origin."""
+    X = rng.normal(size=(6, 6))
+    M = X @ X.T + np.eye(6)                         # linear-first, inertial frame
+    names = "xyzpqr"
+    tags = "".join(f"<{names[a]}{names[b]}>{float(M[a, b])!r}</{names[a]}{names[b]}>"
+                   for a in range(6) for b in range(a, 6))
+    c, rpy = np.array([0.2, -0.1, 0.05]), np.array([0.3, -0.2, 0.5])
+    pose = " ".join(repr(float(x)) for x in (*c, *rpy))
+    text = (f'<sdf version="1.11"><model name="m"><link name="base"><inertial><pose>{pose}</pose><mass>10</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz>'
+            f'</inertia><fluid_added_mass>{tags}</fluid_added_mass></inertial></link></model></sdf>')
+    (tmp_path / "f.sdf").write_text(text)
+    model = uvms.load_model(tmp_path / "f.sdf")
+    from uvms.rotations import rotation_from_euler
+
+    R = rotation_from_euler(rpy)                     # inertial frame in the link frame
+    for _ in range(5):
+        w, v = rng.normal(size=3), rng.normal(size=3)
+        s = np.concatenate([R.T @ (v + np.cross(w, c)), R.T @ w])
+        nu = np.concatenate([w, v])
+        assert nu @ model.added_mass[0] @ nu == pytest.approx(s @ M @ s, rel=1e-12)

@@ -209,3 +209,20 @@ def test_yaml_additions_take_precedence_over_the_tags(tmp_path):
     with pytest.warns(UserWarning, match=r"base_link/\* \(described by"):
         model = uvms.load_model(tmp_path / "rov.yaml")
     np.testing.assert_array_equal(np.diag(model.added_mass[0]), [1, 1, 1, 2, 2, 2])
+
+
+def test_uuv_sphere_model_is_a_uvms_sphere(tmp_path):
+    """``hydrodynamic_model`` ``sphere``: the added mass of a sphere in potential flow, ``rho V / 2`` on each
+    translation and none on rotation (Newman, Marine Hydrodynamics, 1977, Sec. 4.13), and its volume buoyancy."""
+    r = 0.3
+    text = ('<robot name="s"><link name="base"><inertial><mass value="100"/><inertia ixx="4" ixy="0" ixz="0" '
+            'iyy="4" iyz="0" izz="4"/></inertial></link><gazebo><plugin name="u" '
+            'filename="libuuv_underwater_object_ros_plugin.so"><fluid_density>1000</fluid_density>'
+            f'<link name="base"><volume>{4 / 3 * np.pi * r ** 3!r}</volume><hydrodynamic_model><type>sphere</type>'
+            f'<radius>{r!r}</radius></hydrodynamic_model></link></plugin></gazebo></robot>')
+    (tmp_path / "s.urdf").write_text(text)
+    with pytest.warns(UserWarning, match="sphere model's drag is not mapped"):
+        model = uvms.load_model(tmp_path / "s.urdf")
+    half = 0.5 * 1000.0 * 4.0 / 3.0 * np.pi * r ** 3
+    np.testing.assert_allclose(model.added_mass[0], np.diag([0, 0, 0, half, half, half]), rtol=1e-12, atol=1e-9)
+    assert model.buoyancy_mass[0] == pytest.approx(2.0 * half, rel=1e-15)
