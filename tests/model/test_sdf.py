@@ -336,3 +336,18 @@ def test_fluid_added_mass_about_the_inertial_frame(tmp_path, rng):
         s = np.concatenate([R.T @ (v + np.cross(w, c)), R.T @ w])
         nu = np.concatenate([w, v])
         assert nu @ model.added_mass[0] @ nu == pytest.approx(s @ M @ s, rel=1e-12)
+
+
+def test_mixed_damping_follows_the_half_turn(tmp_path, rng):
+    """``Model.in_frame`` maps the mixed quadratic damping too: the enu model and its ned image give the same
+    motion mapped by the half turn (``docs/conventions.md``, "Frames")."""
+    p = _random_vehicle(rng)
+    (tmp_path / "auv.sdf").write_text(_vehicle_sdf(p))
+    enu = uvms.load_model(tmp_path / "auv.sdf")
+    ned = enu.in_frame("ned")
+    h6 = np.array([1.0, -1.0, -1.0, 1.0, -1.0, -1.0])
+    for _ in range(5):
+        euler, nu = rng.uniform(-1.0, 1.0, 3), rng.normal(size=6)
+        a = uvms.forward_dynamics(enu, uvms.State.from_euler(enu, euler=euler, nu=nu)).nu_dot
+        b = uvms.forward_dynamics(ned, uvms.State.from_euler(ned, euler=euler * [1, -1, -1], nu=h6 * nu)).nu_dot
+        np.testing.assert_allclose(h6 * b, a, rtol=0, atol=1e-12 * np.abs(a).max())
