@@ -226,3 +226,22 @@ def test_uuv_sphere_model_is_a_uvms_sphere(tmp_path):
     half = 0.5 * 1000.0 * 4.0 / 3.0 * np.pi * r ** 3
     np.testing.assert_allclose(model.added_mass[0], np.diag([0, 0, 0, half, half, half]), rtol=1e-12, atol=1e-9)
     assert model.buoyancy_mass[0] == pytest.approx(2.0 * half, rel=1e-15)
+
+
+def test_uuv_cylinder_takes_its_size_from_the_link_box(tmp_path):
+    """UUV Simulator's ``HMCylinder`` without ``radius``, ``length`` or ``axis`` takes the smallest extent of
+    the link's ``<box>`` as radius and the largest as length and axis (Oberon 7's links are written so)."""
+    def robot(model: str, box: str) -> str:
+        return ('<robot name="c"><link name="base"><inertial><mass value="10"/><inertia ixx="1" ixy="0" ixz="0" '
+                'iyy="1" iyz="0" izz="1"/></inertial></link><gazebo><plugin name="u" '
+                'filename="libuuv_underwater_object_ros_plugin.so"><fluid_density>1000</fluid_density>'
+                f'<link name="base"><volume>0.01</volume>{box}<hydrodynamic_model><type>cylinder</type>{model}'
+                '</hydrodynamic_model></link></plugin></gazebo></robot>')
+    box = "<box><width>0.1</width><length>0.6</length><height>0.2</height></box>"
+    (tmp_path / "a.urdf").write_text(robot("", box))
+    (tmp_path / "b.urdf").write_text(robot("<radius>0.1</radius><length>0.6</length><axis>j</axis>", ""))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a, b = uvms.load_model(tmp_path / "a.urdf"), uvms.load_model(tmp_path / "b.urdf")
+    np.testing.assert_array_equal(a.added_mass, b.added_mass)
+    assert a.added_mass[0][4, 4] < 0.1 * a.added_mass[0][3, 3]      # little along the axis (y), much across

@@ -151,14 +151,16 @@ def thrusters_of(tags: PluginTags, frames, robot, source: str) -> tuple:
 def warn_unmapped(source: str, notes: list[str], ignored: list[str]) -> None:
     """One warning line: what was frozen or approximated, and the tags not mapped."""
     parts: list[str] = []
-    grouped: dict[str, list[str]] = {}
-    for note in notes:                       # "thruster 3: <text>" notes of the same text in one part
+    grouped: dict[tuple[str, str], list[str]] = {}
+    for note in notes:                       # "thruster 3: <text>", "link 'a': <text>" of one text in one part
         head, _, text = note.partition(": ")
-        if head.startswith("thruster ") and text:
-            grouped.setdefault(text, []).append(head[len("thruster "):])
+        kind, _, name = head.partition(" ")
+        if kind in ("thruster", "link") and name and text:
+            grouped.setdefault((kind, text), []).append(name)
         else:
             parts.append(note)
-    parts += [f"thruster{'s' if len(ids) > 1 else ''} {', '.join(ids)}: {text}" for text, ids in grouped.items()]
+    parts += [f"{kind}{'s' if len(names) > 1 else ''} {', '.join(names[:6])}{' ...' if len(names) > 6 else ''}: "
+              f"{text}" for (kind, text), names in grouped.items()]
     if ignored:
         unique = list(dict.fromkeys(ignored))
         parts.append(f"{len(unique)} tag(s) not mapped: {', '.join(unique[:12])}"

@@ -133,22 +133,36 @@ def _fossen(link: LinkTags, model, source: str, where: str, notes: list[str]) ->
         link.origins["forward-speed damping"] = "hydrodynamic_model/linear_damping_forward_speed"
 
 
-def _shape(link: LinkTags, model, kind: str, source: str, where: str, notes: list[str]) -> None:
+def _box(element, source: str, where: str) -> np.ndarray | None:
+    """The link's ``<box>`` (``width``, ``length``, ``height``: its x, y, z extents, ``BuoyantObject``), or None."""
+    box = element.find("box")
+    if box is None:
+        return None
+    return np.array([_number(box, tag, math.nan, source, f"{where}.box") for tag in ("width", "length", "height")])
+
+
+def _shape(link: LinkTags, model, kind: str, box, source: str, where: str, notes: list[str]) -> None:
+    """A shape model; without ``radius`` / ``length`` / ``axis``, UUV's defaults from the link's ``<box>``
+    (``HMCylinder``, ``HMSpheroid``: the smallest extent as radius, the largest as length and axis)."""
     from uvms.hydro import shapes as hs
 
+    usable = box is not None and bool(np.all(np.isfinite(box))) and bool(np.all(box > 0))
     cd = _number(model, "cd", 0.0, source, where)
-    radius = _number(model, "radius", math.nan, source, where)
+    radius = _number(model, "radius", float(box.min()) if usable else math.nan, source, where)
     if not radius > 0:
-        raise UvmsInputError(f"expected a <radius> > 0 for a {kind} hydrodynamic model", source, where)
+        raise UvmsInputError(f"expected a <radius> > 0 (or the link's <box>) for a {kind} hydrodynamic model",
+                             source, where)
     if kind == "sphere":
         link.shapes.append(hs.Sphere(radius, cd))
     else:
-        length = _number(model, "length", math.nan, source, where)
+        length = _number(model, "length", float(box.max()) if usable else math.nan, source, where)
         if not length > 0:
-            raise UvmsInputError(f"expected a <length> > 0 for a {kind} hydrodynamic model", source, where)
+            raise UvmsInputError(f"expected a <length> > 0 (or the link's <box>) for a {kind} hydrodynamic model",
+                                 source, where)
         if kind == "cylinder":
             axis_tag = model.find("axis")
-            axis = (axis_tag.text or "i").strip() if axis_tag is not None else "i"
+            default = "ijk"[int(np.argmax(box))] if usable else "i"
+            axis = (axis_tag.text or default).strip() if axis_tag is not None else default
             direction = {"i": (1.0, 0.0, 0.0), "j": (0.0, 1.0, 0.0), "k": (0.0, 0.0, 1.0)}.get(axis)
             if direction is None:
                 raise UvmsInputError(f"expected <axis> i, j or k, found {axis[:20]!r}", source, f"{where}.axis")
@@ -170,7 +184,10 @@ def _link(element, rho_hint, source: str, tags: PluginTags) -> LinkTags:
     for child in element:
         if child.tag not in LINK_TAGS and child.tag != "box":
             tags.ignored.append(f"{name}/{child.tag}")
-    if element.find("box") is not None:
+    box = _box(element, source, where)
+    model = element.find("hydrodynamic_model")
+    shaped = model is not None and (model.findtext("type") or "").strip() in ("sphere", "cylinder", "spheroid")
+    if box is not None and not shaped:
         tags.ignored.append(f"{name}/box (surface-vessel bounding box)")
     scaling, offset = (_number(element, "scaling_volume", 1.0, source, where),
                        _number(element, "offset_volume", 0.0, source, where))
@@ -185,7 +202,6 @@ def _link(element, rho_hint, source: str, tags: PluginTags) -> LinkTags:
     if neutral is not None and (neutral.text or "").strip().lower() in ("1", "true"):
         link.neutrally_buoyant = True
         link.origins["buoyancy"] = "neutrally_buoyant"
-    model = element.find("hydrodynamic_model")
     if model is not None:
         kind_tag = model.find("type")
         kind = (kind_tag.text or "").strip() if kind_tag is not None else ""
@@ -194,7 +210,7 @@ def _link(element, rho_hint, source: str, tags: PluginTags) -> LinkTags:
             _fossen(link, model, source, mwhere, tags.notes)
             known = FOSSEN_TAGS
         elif kind in ("sphere", "cylinder", "spheroid"):
-            _shape(link, model, kind, source, mwhere, tags.notes)
+            _shape(link, model, kind, box, source, mwhere, tags.notes)
             known = ("radius", "length", "axis", "cd")
         else:
             raise UvmsInputError(f"expected a hydrodynamic_model type fossen, sphere, cylinder or spheroid, "
