@@ -351,3 +351,27 @@ def test_mixed_damping_follows_the_half_turn(tmp_path, rng):
         a = uvms.forward_dynamics(enu, uvms.State.from_euler(enu, euler=euler, nu=nu)).nu_dot
         b = uvms.forward_dynamics(ned, uvms.State.from_euler(ned, euler=euler * [1, -1, -1], nu=h6 * nu)).nu_dot
         np.testing.assert_allclose(h6 * b, a, rtol=0, atol=1e-12 * np.abs(a).max())
+
+
+def test_sdf_collisions_as_shapes_through_a_model_yaml(tmp_path):
+    """A model YAML over an SDF takes the collision primitives as shapes (``{type: from_collision}``) as it
+    does over a URDF: the same box and cylinder give the same added mass, buoyancy and drag table."""
+    inertial = '<inertial><mass>20</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz></inertia></inertial>'
+    (tmp_path / "s.sdf").write_text(
+        f'<sdf version="1.9"><model name="m"><link name="base">{inertial}'
+        '<collision name="a"><pose>0.1 0 0.05 0 0 0.3</pose><geometry><box><size>0.6 0.3 0.2</size></box>'
+        '</geometry></collision><collision name="b"><pose>-0.2 0.1 0 0 1.5707963267948966 0</pose><geometry>'
+        '<cylinder><radius>0.05</radius><length>0.4</length></cylinder></geometry></collision></link></model></sdf>')
+    (tmp_path / "u.urdf").write_text(
+        '<robot name="m"><link name="base"><inertial><mass value="20"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" '
+        'iyz="0" izz="1"/></inertial><collision><origin xyz="0.1 0 0.05" rpy="0 0 0.3"/><geometry><box '
+        'size="0.6 0.3 0.2"/></geometry></collision><collision><origin xyz="-0.2 0.1 0" '
+        'rpy="0 1.5707963267948966 0"/><geometry><cylinder radius="0.05" length="0.4"/></geometry></collision>'
+        '</link></robot>')
+    extra = "frame: enu\nvehicle:\n  shapes: [{type: from_collision, drag_coefficient: 1.1}]\n"
+    (tmp_path / "s.yaml").write_text("urdf: s.sdf\n" + extra)
+    (tmp_path / "u.yaml").write_text("urdf: u.urdf\n" + extra)
+    a, b = uvms.load_model(tmp_path / "s.yaml"), uvms.load_model(tmp_path / "u.yaml")
+    assert a.shape_count[0] == 2
+    for field in ("added_mass", "buoyancy_mass", "cob", "shape_drag"):
+        np.testing.assert_allclose(getattr(a, field), getattr(b, field), rtol=0, atol=1e-15)

@@ -276,7 +276,7 @@ def _robot(model, source: str, tags: PluginTags, added: dict, shapes: dict):
                 A = M[np.ix_(_REORDER, _REORDER)]                  # [angular; linear], inertial frame
                 X = plucker(R_i.T, p_i)                            # uvms link frame -> inertial frame
                 added[name] = (X.T @ A @ X, "inertial/fluid_added_mass")
-        collisions = []
+        collisions, primitives = [], []
         for k, collision in enumerate(link.findall("collision")):
             geometry = _geometry(collision, source, where)
             if geometry is None:
@@ -284,22 +284,29 @@ def _robot(model, source: str, tags: PluginTags, added: dict, shapes: dict):
             kind, g = geometry
             R_c, p_c = _relative(R_u, p_u, *frames.of(collision, name, f"{where}.collision"))
             cw = f"{where}.collision[{k}].{kind}"
+            none = {"box": None, "cylinder": None, "sphere": None, "mesh": None}
             if kind == "box":
                 size = _floats(g.findtext("size"), 3, source, f"{cw}.size")
                 collisions.append(hs.Box(tuple(size), (0.0, 0.0, 0.0), rotation=R_c, position=p_c))
+                geometry = {**none, "box": SimpleNamespace(size=size)}
             elif kind == "sphere":
-                collisions.append(hs.Sphere(_scalar(g, "radius", 1.0, source, cw), 0.0, rotation=R_c, position=p_c))
+                radius = _scalar(g, "radius", 1.0, source, cw)
+                collisions.append(hs.Sphere(radius, 0.0, rotation=R_c, position=p_c))
+                geometry = {**none, "sphere": SimpleNamespace(radius=radius)}
             elif kind == "cylinder":
                 to_x = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])   # SDF cylinders run along z
-                collisions.append(hs.Cylinder(_scalar(g, "radius", 1.0, source, cw), _scalar(g, "length", 1.0, source,
-                                  cw), 0.0, rotation=R_c @ to_x, position=p_c))
+                radius, length = _scalar(g, "radius", 1.0, source, cw), _scalar(g, "length", 1.0, source, cw)
+                collisions.append(hs.Cylinder(radius, length, 0.0, rotation=R_c @ to_x, position=p_c))
+                geometry = {**none, "cylinder": SimpleNamespace(radius=radius, length=length)}
             elif kind == "ellipsoid":
                 radii = _floats(g.findtext("radii"), 3, source, f"{cw}.radii")
                 collisions.append(hs.Ellipsoid(tuple(radii), 0.0, rotation=R_c, position=p_c))
             elif kind != "plane":
                 tags.ignored.append(f"{name}/collision {kind} (no volume for buoyancy)")
+            if kind in ("box", "sphere", "cylinder"):    # for a model YAML's shapes: [{type: from_collision}]
+                primitives.append(SimpleNamespace(origin=_origin(R_c, p_c), geometry=SimpleNamespace(**geometry)))
         shapes[name] = collisions
-        out_links.append(SimpleNamespace(name=name, inertial=inertial, collisions=[], visuals=[]))
+        out_links.append(SimpleNamespace(name=name, inertial=inertial, collisions=primitives, visuals=[]))
     for joint in joints:
         name = joint.get("name")
         where = f"joint {name!r}"
