@@ -375,3 +375,31 @@ def test_sdf_collisions_as_shapes_through_a_model_yaml(tmp_path):
     assert a.shape_count[0] == 2
     for field in ("added_mass", "buoyancy_mass", "cob", "shape_drag"):
         np.testing.assert_allclose(getattr(a, field), getattr(b, field), rtol=0, atol=1e-15)
+
+
+def test_a_joint_pose_off_its_child_link_frame(tmp_path):
+    """A joint whose ``<pose>`` (in its child link's frame) is not the identity: the axis passes through the
+    joint frame, and the child's inertia is re-expressed there. The URDF written out by hand for the same arm
+    (joint frame at the link pose times the joint pose; the inertial moved into it) moves the same."""
+    c, s = math.cos, math.sin
+    inertial = '<inertial><mass>{m}</mass><pose>{pose}</pose><inertia><ixx>0.02</ixx><iyy>0.1</iyy><izz>0.1</izz>' \
+               '</inertia></inertial>'
+    (tmp_path / "a.sdf").write_text(
+        '<sdf version="1.9"><model name="m"><link name="base">'
+        + inertial.format(m=50, pose="0 0 0 0 0 0").replace("0.02", "2").replace("0.1", "3")
+        + '</link><link name="arm"><pose>0.6 0 -0.2 0 0 0.5</pose>' + inertial.format(m=5, pose="0.25 0 0 0 0 0")
+        + '</link><joint name="j" type="revolute"><pose>0.1 0 0 0 0 0.2</pose><parent>base</parent><child>arm'
+        '</child><axis><xyz>0 0 1</xyz></axis></joint></model></sdf>')
+    x, y = 0.6 + 0.1 * c(0.5), 0.1 * s(0.5)
+    (tmp_path / "a.urdf").write_text(
+        '<robot name="m"><link name="base"><inertial><mass value="50"/><inertia ixx="2" ixy="0" ixz="0" iyy="3" '
+        'iyz="0" izz="3"/></inertial></link><joint name="j" type="revolute">'
+        f'<origin xyz="{x!r} {y!r} -0.2" rpy="0 0 0.7"/><parent link="base"/><child link="arm"/>'
+        '<axis xyz="0 0 1"/></joint><link name="arm"><inertial>'
+        f'<origin xyz="{0.15 * c(0.2)!r} {-0.15 * s(0.2)!r} 0" rpy="0 0 -0.2"/><mass value="5"/>'
+        '<inertia ixx="0.02" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link></robot>')
+    a, b = uvms.load_model(tmp_path / "a.sdf"), uvms.load_model(tmp_path / "a.urdf", frame="enu")
+    state = uvms.State.from_euler(a, euler=[0.1, 0.2, 0.3], nu=[0.1, -0.2, 0.3, 0.4, 0.1, -0.1], q=[0.4], qd=[1.0])
+    ga = uvms.forward_dynamics(a, state, joint_torques=[0.5]).generalized
+    gb = uvms.forward_dynamics(b, state, joint_torques=[0.5]).generalized
+    np.testing.assert_allclose(ga, gb, rtol=0, atol=1e-12 * np.abs(gb).max())
