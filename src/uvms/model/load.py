@@ -68,7 +68,8 @@ def load_model(name_or_path: str | os.PathLike[str], *, balance_inertia: bool | 
                allow_environment: bool | None = None, xacro_args: dict[str, str] | None = None,
                frame: str | None = None) -> Model:
     """Load a model: a bundled name (``"paper"``, see :func:`bundled_models`), a model YAML file, or a robot
-    description (``.urdf``, ``.xacro``) whose root link is the vehicle (``docs/models.md``).
+    description (``.urdf``, ``.xacro``, ``.sdf``) whose root link is the vehicle (``docs/models.md``; a Gazebo
+    file's plugin tags give its hydrodynamics and thrusters: "UUV Simulator and Gazebo files").
 
     The keywords (for robot descriptions; each replaces the model YAML's field of that name when given):
     ``balance_inertia`` accepts link inertias breaking the triangle inequality with their principal moments set
