@@ -77,7 +77,8 @@ def load_model(name_or_path: str | os.PathLike[str], *, balance_inertia: bool | 
     (``{package: folder}``), ``allow_environment`` and ``xacro_args`` say what a xacro may read beyond its own
     folder (``docs/models.md``, "What a xacro may do"). ``frame`` (``"ned"`` or ``"enu"``, for any model file)
     says which convention the file's numbers are written in (``docs/conventions.md``, "Frames"): a bare ROS URDF
-    is ``frame="enu"`` (world z up, base_link forward-left-up); default: the file's ``frame:`` key, else ned.
+    is ``frame="enu"`` (world z up, base_link forward-left-up); default: the file's ``frame:`` key, else ned
+    (enu for a robot description with Gazebo plugin tags and for every SDF file).
 
     Raises:
         UvmsInputError: missing file, YAML or XML syntax error or invalid content (one-line message).
