@@ -98,7 +98,7 @@ FLOORS = (
     ("dynamics", ("uvms.dynamics",)),
     ("control", ("uvms.control",)),
     ("analysis", ("uvms.analysis",)),
-    ("sim", ("uvms.sim", "uvms.logs")),
+    ("sim", ("uvms.sim", "uvms.logs", "uvms.ros")),
     ("presentation", ("uvms.plots", "uvms.view")),
     ("experiments", ("uvms.reproduce", "uvms.control.compare", "uvms.sweep", "uvms.paper_figures", "uvms.identify",
                      "uvms.replays")),

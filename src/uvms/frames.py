@@ -98,6 +98,18 @@ def convert_spatial_matrix(M, source: str, target: str) -> np.ndarray:
     return M
 
 
+def convert_damping_tensor(C, source: str, target: str) -> np.ndarray:
+    """A body's mixed quadratic damping ``C`` (2, 6, 6, 6), ``f_i -= C[0, i, j, k] nu_j |nu_k| +
+    C[1, i, j, k] nu_j nu_k`` (:attr:`uvms.model.model.Model.damping_cross`): each index takes the sign ``h``
+    of ``H6``, except the one under ``| |`` (``|h nu_k| = |nu_k|``)."""
+    C = np.array(C, dtype=float)
+    if not _same(source, target):
+        h = np.array([1.0, -1.0, -1.0, 1.0, -1.0, -1.0])
+        C[0] = C[0] * h[:, None, None] * h[None, :, None]
+        C[1] = C[1] * h[:, None, None] * h[None, :, None] * h[None, None, :]
+    return C
+
+
 def quaternion_wxyz(q_xyzw) -> np.ndarray:
     """A quaternion (or ``(..., 4)`` rows) ordered ``(x, y, z, w)`` (ROS) reordered to uvms's ``(w, x, y, z)``."""
     q = np.asarray(q_xyzw, dtype=float)

@@ -214,7 +214,7 @@ def _kernels_called_directly() -> None:
     from uvms.dynamics.plant import fluid_table, forward_into, model_data
     from uvms.hydro.buoyancy import buoyancy_force
     from uvms.hydro.drag import link_drag_force, vehicle_drag_force
-    from uvms.hydro.fossen import fossen_damping_force
+    from uvms.hydro.fossen import fossen_cross_damping_force, fossen_damping_force
     from uvms.sim.plan import events
     from uvms.thrusters.allocation import allocate_pinv
     from uvms.thrusters.first_order import FirstOrderParameters, first_order_rk4_step
@@ -235,6 +235,7 @@ def _kernels_called_directly() -> None:
     link_drag_force(1.0, 1.0, v6, out6)
     vehicle_drag_force(v3, v3, v6, out6)
     fossen_damping_force(eye6, eye6, v3, v6, out6)
+    fossen_cross_damping_force(np.zeros((36, 6)), np.zeros((36, 6)), v3, v6, out6)
     allocate_pinv(np.zeros((4, 6)), v6, -np.ones(4), np.ones(4), np.zeros(4))
     first_order_rk4_step(FirstOrderParameters().as_array(), 0.0, 1.0, 1e-3)
     table_rk4_step(t200_table(time_constant=0.05).as_array(), 0.0, 1500.0, 1e-3)

@@ -89,7 +89,7 @@ def test_joint_names_that_are_not_the_models(tmp_path):
                          "pose, start, thrusters"),
     ({"pose": {"file": "pose.csv", **POSE_XYZW, "quaternion": [1, 2, 3, 4]}},
      "log.yaml: pose.quaternion: unknown key; expected one of: file, position, quaternion_wxyz, quaternion_xyzw, "
-     "scale, time, time_offset, time_scale"),
+     "scale, time, time_offset, time_scale, topic"),
     ({"frame": "nwu"}, "log.yaml: frame: expected 'ned' or 'enu', found 'nwu'"),
     ({"duration": "20"}, "log.yaml: duration: expected a finite number, found '20'"),
     ({"pose": {"file": "pose.csv", "time": "t", "position": ["x", "y", "z"]}},
@@ -104,6 +104,10 @@ def test_joint_names_that_are_not_the_models(tmp_path):
      "log.yaml: imu: expected at least one of quaternion_xyzw, quaternion_wxyz, angular_velocity, "
      "linear_acceleration"),
     ({"pose": {"file": "nowhere.csv", **POSE_XYZW}}, "nowhere.csv: no such file"),
+    ({"pose": {"file": "pose.csv", "position": ["x", "y", "z"], "quaternion_xyzw": ["qx", "qy", "qz", "qw"]}},
+     "log.yaml: pose.time: expected the time column's name (time: ...); a bag stream gives topic: instead"),
+    ({"pose": {"file": "pose.csv", "time": "t", "quaternion_xyzw": ["qx", "qy", "qz", "qw"]}},
+     "log.yaml: pose.position: expected position: the 3 position columns (x, y, z)"),
 ])
 def test_the_description_is_checked_key_by_key(tmp_path, change, expected):
     assert _refused(tmp_path, {"frame": "ned", "pose": {"file": "pose.csv", **POSE_XYZW}} | change) == expected

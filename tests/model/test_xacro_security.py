@@ -346,3 +346,21 @@ def test_expansions_in_several_threads_do_not_mix(tmp_path):
         results = list(pool.map(one, range(16)))
     assert all("<robot" in r for r in results[0::2])
     assert all("'__import__' is not allowed" in r for r in results[1::2])
+
+
+def test_an_unnamed_package_near_the_file_is_named_in_the_refusal(tmp_path, monkeypatch):
+    """Issue 26: ``$(find pkg)`` of a package lying beside the model (a checked-out workspace) is still refused,
+    but the one line names the folder and the ROS_PACKAGE_PATH entry that would grant it."""
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    shared = tmp_path / "ws" / "uuv_simulator" / "uuv_descriptions"
+    (shared / "urdf").mkdir(parents=True)
+    (shared / "urdf" / "common.xacro").write_text(HEAD + "</robot>")
+    path = _robot(tmp_path / "ws" / "rov" / "robots",
+                  '<xacro:include filename="$(find uuv_descriptions)/urdf/common.xacro"/>')
+    with pytest.raises(UvmsInputError, match=r"is not named.*ROS_PACKAGE_PATH=\S*uuv_simulator or package_paths="
+                       r"\{'uuv_descriptions': '\S*uuv_descriptions'\}") as info:
+        uvms.load_model(path)
+    assert "\n" not in str(info.value)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ws" / "uuv_simulator"))
+    (shared / "package.xml").write_text("<package><name>uuv_descriptions</name></package>")
+    assert uvms.load_model(path).mass[0] == 2.0

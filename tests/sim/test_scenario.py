@@ -78,8 +78,10 @@ def fake_registry(monkeypatch):
 
 def test_bundled_scenarios_are_the_three_paper_cases():
     # plus the BlueROV2 Heavy + Alpha 5 reach of issue 13 (tests/sim/test_bluerov.py) and its six-axis hold of
-    # issue 16 (tests/control/test_compare_scenarios.py)
-    assert bundled_scenarios() == ["bluerov2_heavy_alpha5_hold6", "bluerov2_heavy_alpha5_reach", "paper_case1_fixed",
+    # issue 16 (tests/control/test_compare_scenarios.py) and its station keeping in waves of issue 27
+    # (tests/sim/test_scenario_environment.py)
+    assert bundled_scenarios() == ["bluerov2_heavy_alpha5_hold6", "bluerov2_heavy_alpha5_reach",
+                                   "bluerov2_heavy_alpha5_waves", "paper_case1_fixed",
                                    "paper_case2_released", "paper_case3_controlled"]
 
 

@@ -136,6 +136,8 @@ class ModelReport:
     b_bounds: dict[str, tuple[float, float]]
     warnings: tuple[str, ...]
     frame: str = "ned"
+    hydro_sources: tuple[tuple[str, str], ...] = ()
+    """Which tag of a Gazebo file each hydrodynamic number came from (:attr:`uvms.model.model.Model.hydro_sources`)."""
 
     def table(self) -> str:
         """The report as aligned text lines (what ``uvms validate`` prints after its summary)."""
@@ -165,6 +167,9 @@ class ModelReport:
         lines.append("effective mass/inertia 1/(M^-1)_jj (rigid body + added mass, joints free):")
         lines.append("  " + ", ".join(f"{a} {v:.4g} {u}" for a, v, u in
                                       zip(AXES, self.effective_inertia, INERTIA_UNITS)))
+        if self.hydro_sources:
+            lines.append("hydrodynamics read from the file's tags:")
+            lines.extend(f"  {what}: {tag}" for what, tag in self.hydro_sources)
         lines.extend(f"warning: {w}" for w in self.warnings)
         return "\n".join(lines)
 
@@ -187,7 +192,8 @@ class ModelReport:
 
         trim = None if self.trim_roll_rad is None else {"roll_rad": self.trim_roll_rad,
                                                         "pitch_rad": self.trim_pitch_rad}
-        return {
+        sources = {"hydro_sources": dict(self.hydro_sources)} if self.hydro_sources else {}
+        return {**sources, 
             "model": self.model_name,
             "frame": self.frame,
             "q": dict(zip(self.joint_names, (float(x) for x in self.q))),
@@ -311,4 +317,5 @@ def model_report(model, q=None, *, controller=None) -> ModelReport:
         static_moment_Nm=static, righting_moment_Nm=righting, trim_roll_rad=roll, trim_pitch_rad=pitch,
         trim_note=note, thrust_forward_N=forward, thrust_reverse_N=reverse, thrust_method=THRUST_METHOD,
         n_thrusters=len(thrusters), allocation_rank=rank, missing_axes=missing, effective_inertia=inertia,
-        b_bounds=bounds, warnings=warnings, frame=model.convention)
+        b_bounds=bounds, warnings=warnings, frame=model.convention,
+        hydro_sources=tuple(getattr(model, "hydro_sources", ())))

@@ -15,5 +15,6 @@ COMMANDS: tuple[str, ...] = (
     "sweep",
     "show", "animate",
     "replay", "identify",
+    "export",
     "precompile",
 )

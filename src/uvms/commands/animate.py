@@ -53,12 +53,16 @@ def run(args: argparse.Namespace) -> int:
         raise UvmsInputError("expected a .html, .mp4 or .gif file name", str(output), "--output")
     check_result_files(directory)          # sizes and nesting first: refused before the heavy imports
     from uvms.sim.result import Result
-    from uvms.view.animate import model_of_run, replay, write_replay_html, write_video
+    from uvms.sim.run import Actuation
+    from uvms.view.animate import replay, scenario_of_run, write_replay_html, write_video
+    from uvms.view.water import flow_of_scenario
 
     result = Result.load(directory)
-    model, thrusters = model_of_run(directory)
+    scenario = scenario_of_run(directory)
+    model, thrusters = scenario.model, Actuation.named(scenario.spec.actuators, scenario.model).thrusters
     record = check_file_output(output, "--output", named=args.output is not None, force=args.force)
-    rp = replay(result, model, fps=args.fps, speed=args.speed, max_frames=args.max_frames, thrusters=thrusters)
+    rp = replay(result, model, fps=args.fps, speed=args.speed, max_frames=args.max_frames, thrusters=thrusters,
+                flow=flow_of_scenario(scenario))
     if suffix in VIDEO_SUFFIXES:
         if args.start is not None:
             raise UvmsInputError("applies to .html pages only", None, "--start")

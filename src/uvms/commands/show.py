@@ -22,6 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="vehicle position x y z in the world, in the model's frame (ned: north, east, down; enu: z up) [m] (default: 0 0 0)")
     parser.add_argument("--euler", metavar="RAD", type=float, nargs=3, default=None,
                         help="vehicle roll pitch yaw (ZYX Euler angles) [rad] (default: 0 0 0)")
+    parser.add_argument("--scenario", metavar="SCENARIO", default=None,
+                        help="also draw the free surface and current arrows of this scenario's environment at t = 0 "
+                             "(waves, a depth profile or a gridded field; docs/environment.md)")
     parser.add_argument("-o", "--output", metavar="FILE", default=None,
                         help="FILE.html (interactive, works offline), or FILE.png/.pdf/.svg/.jpg (static); "
                              "default: <model name>.html in the working folder, which never replaces a file "
@@ -73,16 +76,22 @@ def run(args: argparse.Namespace) -> int:
             raise UvmsInputError(f"expected finite numbers, found {values}", None, option)
     from uvms.view import picture, show, state_at
 
+    flow = None
+    if getattr(args, "scenario", None) is not None:
+        from uvms.sim.scenario import load_scenario
+        from uvms.view.water import flow_of_scenario
+
+        flow = flow_of_scenario(load_scenario(args.scenario))
     q = q_option(model, args.q)
     state = state_at(model, State.from_euler(model, position=args.position, euler=args.euler), q=q)
     if kind == "html":
         from uvms.view.plotly_html import write_html
 
-        write_html(show(model, state), output)
+        write_html(show(model, state, flow=flow), output)
     else:
         from uvms.plots import save_figure
 
-        save_figure(picture(model, state), output, dpi=130)
+        save_figure(picture(model, state, flow=flow), output, dpi=130)
     if record:
         record_written(output)
     print(f"{model.name} drawn to {output}")

@@ -53,7 +53,7 @@ class KernelModel(NamedTuple):
                                 #   rotation (the cylinder along its x), row 3 its origin in the body [m], row 4
                                 #   [0.5 rho Cd (2 r) per unit length [kg/m^2], length L [m], 1.0 if the cylinder is
                                 #   not along the body x axis from the origin else 0.0]
-    fossen: np.ndarray          # (nb, 13, 6) Fossen damping of each body: rows 0-5 D_l, rows 6-11 D_q
+    fossen: np.ndarray          # (nb, 85, 6) Fossen damping of each body: rows 0-5 D_l, rows 6-11 D_q
                                 #   ([angular; linear] entries), row 12 [point (3) [m], 1.0 if the body has any
                                 #   Fossen damping else 0.0, number of shape drag rows, 0] (docs/models.md)
     shapes: np.ndarray          # (nb, max(1, k), DRAG_ROW) each body's shape drag table (uvms.hydro.shapes,
@@ -179,13 +179,19 @@ def kernel_model_from(model) -> KernelModel:
 def _fossen_rows(model) -> np.ndarray:
     """:attr:`KernelModel.fossen` of a model: ``D_l``, ``D_q`` and ``[point, flag, 0, 0]`` per body."""
     nb = model.n_bodies
-    out = np.zeros((nb, 13, 6))
+    from uvms.hydro.fossen import CROSS_ABS_END, CROSS_END, CROSS_ROWS
+
+    out = np.zeros((nb, CROSS_END, 6))
     out[:, 0:6] = model.damping_linear
     out[:, 6:12] = model.damping_quadratic
     out[:, 12, 0:3] = model.damping_point
     out[:, 12, 3] = [1.0 if np.any(model.damping_linear[i]) or np.any(model.damping_quadratic[i]) else 0.0
                      for i in range(nb)]
     out[:, 12, 4] = model.shape_count
+    cross = np.asarray(model.damping_cross, dtype=float)
+    out[:, CROSS_ROWS:CROSS_ABS_END] = cross[:, 0].reshape(nb, 36, 6)
+    out[:, CROSS_ABS_END:CROSS_END] = cross[:, 1].reshape(nb, 36, 6)
+    out[:, 12, 5] = [1.0 if np.any(cross[i]) else 0.0 for i in range(nb)]
     return out
 
 

@@ -25,7 +25,7 @@ from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
 from uvms.hydro.drag import link_drag_force, vehicle_drag_force
 from uvms.hydro.flow import fluid_at, uniform_at
-from uvms.hydro.fossen import fossen_damping_force
+from uvms.hydro.fossen import CROSS_ABS_END, CROSS_END, CROSS_ROWS, fossen_cross_damping_force, fossen_damping_force
 from uvms.hydro.shapes import shapes_drag_force
 from uvms.jit import block
 from uvms.kinematics import JOINT_OFFSET, JOINT_Z, joint_transform
@@ -77,6 +77,8 @@ def body_hydro_forces(km, ws, i):
 
     The vehicle's drag is Eqs. 3-5, a link's its cylinder's (:func:`cylinder_drag_force`). A body with Fossen
     damping (``km.fossen[i, 12, 3] != 0``) adds :func:`~uvms.hydro.fossen.fossen_damping_force` to its drag,
+    one with mixed quadratic terms (``km.fossen[i, 12, 5] != 0``)
+    :func:`~uvms.hydro.fossen.fossen_cross_damping_force`,
     a body with shapes (``km.fossen[i, 12, 4]`` rows of ``km.shapes[i]``) adds
     :func:`~uvms.hydro.shapes.shapes_drag_force`; bodies without skip them (the paper model's arithmetic is
     unchanged).
@@ -94,6 +96,11 @@ def body_hydro_forces(km, ws, i):
     fossen = km.fossen[i]
     if fossen[12, 3] != 0.0:
         fossen_damping_force(fossen[0:6], fossen[6:12], fossen[12], nu_r, ws.nu_c)
+        for k in range(6):
+            f[DRAG, k] += ws.nu_c[k]
+    if fossen[12, 5] != 0.0:
+        fossen_cross_damping_force(fossen[CROSS_ROWS:CROSS_ABS_END], fossen[CROSS_ABS_END:CROSS_END], fossen[12], nu_r,
+                                   ws.nu_c)
         for k in range(6):
             f[DRAG, k] += ws.nu_c[k]
     n_shapes = int(fossen[12, 4])

@@ -162,3 +162,42 @@ def fossen_damping_force(D_l, D_q, point, nu_r, out):
     out[0] += py * fz - pz * fy
     out[1] += pz * fx - px * fz
     out[2] += px * fy - py * fx
+
+
+CROSS_ROWS = 13
+"""First row of the mixed quadratic terms in a body's kernel Fossen block (``uvms.dynamics.kernel_model``):
+rows ``CROSS_ROWS + 6 i + j``, column ``k`` hold ``C[0, i, j, k]`` (the ``nu_j |nu_k|`` terms), the 36 rows after
+them ``C[1, i, j, k]`` (the ``nu_j nu_k`` terms)."""
+CROSS_ABS_END = CROSS_ROWS + 36
+CROSS_END = CROSS_ROWS + 72
+
+
+@block
+def fossen_cross_damping_force(C_abs, C_plain, point, nu_r, out):
+    """``out`` = ``[m; f]`` about the body origin of the mixed quadratic damping
+    ``f_i = -sum_jk (C_abs[6 i + j, k] nu_j |nu_k| + C_plain[6 i + j, k] nu_j nu_k)`` acting at ``point``.
+
+    This is the quadratic part of gz-sim's Hydrodynamics system (``D(i, j) -= xUabsV |V| + xUV V``, force
+    ``D nu``; gz-sim ``HydrodynamicsUtils.hh``, ``buildDampingMatrix``) and UUV Simulator's damping
+    proportional to the forward speed (``-u D_lfs nu``, ``HydrodynamicModel.cc``, ``HMFossen``), in
+    ``[angular; linear]`` indices and matrix-entry signs. ``nu_p`` (the velocity of ``point``) as in
+    :func:`fossen_damping_force`; the diagonal ``F_a|a|`` terms stay in ``D_q``.
+    """
+    w0, w1, w2 = nu_r[0], nu_r[1], nu_r[2]
+    px, py, pz = point[0], point[1], point[2]
+    n0, n1, n2 = w0, w1, w2
+    n3 = nu_r[3] + w1 * pz - w2 * py
+    n4 = nu_r[4] + w2 * px - w0 * pz
+    n5 = nu_r[5] + w0 * py - w1 * px
+    for i in range(6):
+        s = 0.0
+        for j in range(6):
+            nj = n0 if j == 0 else n1 if j == 1 else n2 if j == 2 else n3 if j == 3 else n4 if j == 4 else n5
+            for k in range(6):
+                nk = n0 if k == 0 else n1 if k == 1 else n2 if k == 2 else n3 if k == 3 else n4 if k == 4 else n5
+                s += (C_abs[6 * i + j, k] * abs(nk) + C_plain[6 * i + j, k] * nk) * nj
+        out[i] = -s
+    fx, fy, fz = out[3], out[4], out[5]
+    out[0] += py * fz - pz * fy
+    out[1] += pz * fx - px * fz
+    out[2] += px * fy - py * fx

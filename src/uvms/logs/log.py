@@ -77,6 +77,39 @@ def _unit_quaternions(q: np.ndarray, lines: np.ndarray, columns: tuple[str, ...]
     return q / norm[:, None]
 
 
+def _read_bag_stream(key: str, spec: StreamSpec, path: Path, wanted: dict, described: dict):
+    """The table of a stream read from a bag's topic (:mod:`uvms.logs.bag`) and its parts' fields: the message
+    type's default pose and IMU fields where the description gives none, a joint state's ``position[<name>]``
+    and ``velocity[<name>]`` for the joints' columns."""
+    from uvms.logs import bag
+
+    source = str(path)
+    msgtype = bag.topic_type(path, spec.topic, source, f"{key}.topic")
+    defaults = dict(bag.DEFAULT_FIELDS.get(msgtype, {}))
+    if "quaternion_xyzw" in defaults:
+        x, y, z, w = defaults.pop("quaternion_xyzw")
+        defaults["quaternion"] = (w, x, y, z)
+    wanted = dict(wanted)
+    parts = {"pose": ("position", "quaternion"),
+             "imu": ("quaternion", "angular_velocity", "linear_acceleration")}.get(key, ())
+    for part in parts:
+        if part not in wanted and part in defaults:
+            wanted[part] = defaults[part]
+            described.update({f: f"{key}.topic ({msgtype})" for f in defaults[part]})
+    if key == "pose" and not {"position", "quaternion"} <= set(wanted):
+        raise UvmsInputError(f"a pose from {msgtype} needs its fields: position: [x, y, z] and quaternion_xyzw: "
+                             f"[x, y, z, w] (field paths such as pose.position.x)", source, "pose.topic")
+    if key == "joints" and msgtype == bag.JOINT_STATE:
+        for part, field in (("q", "position"), ("qd", "velocity")):
+            fields = tuple(f"{field}[{c}]" for c in wanted[part])
+            described.update({f: f"joints.{'columns' if part == 'q' else 'rates'}" for f in fields})
+            wanted[part] = fields
+    fields = {f: described[f] for columns in wanted.values() for f in columns}
+    table = bag.read_bag_table(path, spec.topic, spec.time or "header.stamp", fields,
+                               time_scale=spec.time_scale, time_offset=spec.time_offset)
+    return table, wanted
+
+
 def _read_stream(key: str, spec: StreamSpec, base_dir: Path, source: str | None) -> Stream:
     """Read one stream's CSV file (inside ``base_dir``, :func:`uvms.input_paths.data_file`) and apply its
     description's conversions."""
@@ -100,8 +133,11 @@ def _read_stream(key: str, spec: StreamSpec, base_dir: Path, source: str | None)
                  "q": "columns", "qd": "rates", "commands": "columns"}.get(part, part)
         described.update({c: f"{key}.{label}" for c in columns if c not in described})
     path = data_file(spec.file, base_dir, source, f"{key}.file")
-    table = read_table(path, spec.time, described,
-                       time_scale=spec.time_scale, time_offset=spec.time_offset)
+    if spec.topic is not None:
+        table, wanted = _read_bag_stream(key, spec, path, wanted, described)
+    else:
+        table = read_table(path, spec.time, described,
+                           time_scale=spec.time_scale, time_offset=spec.time_offset)
     parts = {part: np.array([table.values[c] for c in columns]).T.reshape(table.time.size, len(columns))
              for part, columns in wanted.items()}
     if "quaternion" in parts:

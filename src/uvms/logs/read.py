@@ -141,23 +141,31 @@ def read_table(path: str | os.PathLike[str], time: str, columns: dict[str, str],
                              source) from None
     values = {c: _numbers(frame, c, source) for c in wanted}
     t = values.pop(time) * time_scale + time_offset
-    lines = np.arange(2, t.size + 2)
+    return checked_rows(source, t, values, np.arange(2, t.size + 2), time_name=f"column {show(time)}")
+
+
+def checked_rows(source: str, t: np.ndarray, values: dict[str, np.ndarray], lines: np.ndarray, *, time_name: str,
+                 line: str = "line") -> Table:
+    """The :class:`Table` of rows read in file order (a CSV file's, a bag topic's): at least two, time never going
+    backwards, a time given twice only as an exact repetition (dropped); ``lines`` number the rows in messages
+    (``line`` says what they are), ``time_name`` names the time column."""
     if t.size < 2:
         raise UvmsInputError(f"expected at least 2 rows of data, found {t.size}", source)
     step = np.diff(t)
     back = np.flatnonzero(step < 0)
     if back.size:
         k = int(back[0]) + 1
-        raise UvmsInputError(f"time goes backwards: {t[k]:.9g} s after {t[k - 1]:.9g} s on line {lines[k - 1]}",
-                             source, f"line {lines[k]}, column {show(time)}")
+        raise UvmsInputError(f"time goes backwards: {t[k]:.9g} s after {t[k - 1]:.9g} s on {line} {lines[k - 1]}",
+                             source, f"{line} {lines[k]}, {time_name}")
     same = np.flatnonzero(step == 0) + 1
     differ = [k for k in same if any(v[k] != v[k - 1] for v in values.values())]
     if differ:
         k = differ[0]
         changed = next(c for c, v in values.items() if v[k] != v[k - 1])
-        raise UvmsInputError(f"time {t[k]:.9g} s repeats line {lines[k - 1]} with another value in column "
+        kind = "column" if line == "line" else "field"
+        raise UvmsInputError(f"time {t[k]:.9g} s repeats {line} {lines[k - 1]} with another value in {kind} "
                              f"{show(changed)} (a time must not be given twice)", source,
-                             f"line {lines[k]}, column {show(time)}")
+                             f"{line} {lines[k]}, {time_name}")
     keep = np.ones(t.size, dtype=bool)
     keep[same] = False
     if not keep.all():

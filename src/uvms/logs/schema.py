@@ -49,12 +49,20 @@ Sign = Annotated[float, BeforeValidator(_sign)]
 
 
 class StreamSpec(Spec):
-    """What every stream has: its CSV file (relative to the description's folder) and its time column."""
+    """What every stream has: its CSV file or ROS bag (relative to the description's folder; a bag with the
+    ``topic`` to read, :mod:`uvms.logs.bag`) and its time column (a bag's: ``header.stamp`` or ``log_time``)."""
 
     file: Annotated[str, Field(min_length=1, max_length=4096)]
-    time: Column                                   # the time column [s, after time_scale]
+    topic: Annotated[str, Field(min_length=1, max_length=500)] | None = None   # a bag's topic (then columns are fields)
+    time: Column | None = None                     # the time column [s, after time_scale]; a bag: header.stamp
     time_scale: Positive = 1.0                     # multiplies the time column to give seconds (1e-9 for ns)
     time_offset: Number = 0.0                      # added (after time_scale) to put the stream on the log clock [s]
+
+    @model_validator(mode="after")
+    def _time_of_a_csv(self):
+        if self.topic is None and self.time is None:
+            raise fail("expected the time column's name (time: ...); a bag stream gives topic: instead", "time")
+        return self
 
 
 class QuaternionColumns(Spec):
@@ -83,11 +91,15 @@ class PoseSpec(StreamSpec, QuaternionColumns):
     """The vehicle's pose in the world: position and body-to-world quaternion (motion capture, a navigation
     filter)."""
 
-    position: Columns3                             # x, y, z [m, after scale]
+    position: Columns3 | None = None               # x, y, z [m, after scale]; a bag: its message type's fields
     scale: Positive = 1.0                          # multiplies the position columns to give metres (0.001 for mm)
 
     @model_validator(mode="after")
     def _has_quaternion(self):
+        if self.topic is not None:                 # a bag: the message type's fields by default
+            return self
+        if self.position is None:
+            raise fail("expected position: the 3 position columns (x, y, z)", "position")
         if self.quaternion_columns() is None:
             raise fail("expected quaternion_xyzw or quaternion_wxyz (the body-to-world attitude's 4 columns)")
         return self
@@ -101,7 +113,7 @@ class ImuSpec(StreamSpec, QuaternionColumns):
 
     @model_validator(mode="after")
     def _has_something(self):
-        if (self.quaternion_columns() is None and self.angular_velocity is None
+        if self.topic is None and (self.quaternion_columns() is None and self.angular_velocity is None
                 and self.linear_acceleration is None):
             raise fail("expected at least one of quaternion_xyzw, quaternion_wxyz, angular_velocity, "
                        "linear_acceleration")

@@ -234,7 +234,9 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None, 
         thrusters=_thrusters(spec, source), source=source,
         xacro=xacro_options(spec, source, granted), balance_inertia=spec.balance_inertia,
     )
-    model = model_from_urdf(urdf_path, extras)
+    from uvms.model.sdf import is_sdf, model_from_sdf
+
+    model = model_from_sdf(urdf_path, extras) if is_sdf(urdf_path) else model_from_urdf(urdf_path, extras)
     if spec.inertia_includes_added_mass:
         weights = [(None, vehicle.weight)] if vehicle.weight is not None else []
         weights += [(name, link.weight) for name, link in spec.links.items() if link.weight is not None]

@@ -68,7 +68,8 @@ def load_model(name_or_path: str | os.PathLike[str], *, balance_inertia: bool | 
                allow_environment: bool | None = None, xacro_args: dict[str, str] | None = None,
                frame: str | None = None) -> Model:
     """Load a model: a bundled name (``"paper"``, see :func:`bundled_models`), a model YAML file, or a robot
-    description (``.urdf``, ``.xacro``) whose root link is the vehicle (``docs/models.md``).
+    description (``.urdf``, ``.xacro``, ``.sdf``) whose root link is the vehicle (``docs/models.md``; a Gazebo
+    file's plugin tags give its hydrodynamics and thrusters: "UUV Simulator and Gazebo files").
 
     The keywords (for robot descriptions; each replaces the model YAML's field of that name when given):
     ``balance_inertia`` accepts link inertias breaking the triangle inequality with their principal moments set
@@ -76,12 +77,14 @@ def load_model(name_or_path: str | os.PathLike[str], *, balance_inertia: bool | 
     (``{package: folder}``), ``allow_environment`` and ``xacro_args`` say what a xacro may read beyond its own
     folder (``docs/models.md``, "What a xacro may do"). ``frame`` (``"ned"`` or ``"enu"``, for any model file)
     says which convention the file's numbers are written in (``docs/conventions.md``, "Frames"): a bare ROS URDF
-    is ``frame="enu"`` (world z up, base_link forward-left-up); default: the file's ``frame:`` key, else ned.
+    is ``frame="enu"`` (world z up, base_link forward-left-up); default: the file's ``frame:`` key, else ned
+    (enu for a robot description with Gazebo plugin tags and for every SDF file).
 
     Raises:
         UvmsInputError: missing file, YAML or XML syntax error or invalid content (one-line message).
     """
-    from uvms.frames import check_frame, default_gravity
+    from uvms.frames import check_frame
+    from uvms.model.sdf import is_sdf
     from uvms.model.urdf import VehicleExtras, is_robot_description, model_from_urdf
     from uvms.model.xacro import XacroOptions
 
@@ -94,7 +97,11 @@ def load_model(name_or_path: str | os.PathLike[str], *, balance_inertia: bool | 
         xacro = XacroOptions(package_paths=dict(options.get("package_paths", {})),
                              allow_environment=bool(options.get("allow_environment", False)),
                              args=dict(options.get("xacro_args", {})))
-        extras = VehicleExtras(frame=frame or "ned", gravity=tuple(default_gravity(frame or "ned")))
+        extras = VehicleExtras(frame=frame, gravity=None, density=None, current=None)
+        if is_sdf(name_or_path):
+            from uvms.model.sdf import model_from_sdf
+
+            return model_from_sdf(name_or_path, extras, balance_inertia=bool(balance_inertia))
         return model_from_urdf(name_or_path, extras, xacro=xacro, balance_inertia=bool(balance_inertia))
     key = (_file_key(resolve_model_path(name_or_path)), repr(sorted(options.items())))
     hit = _LOADED.get(key)
@@ -161,7 +168,7 @@ def _built(spec, source, options: dict | None) -> tuple[Model, tuple]:
             if not urdf.is_absolute():
                 urdf = Path(source).parent / urdf
             if not is_robot_description(urdf):
-                raise UvmsInputError(f"expected a .urdf or .xacro file, found {spec.urdf!r}", source, "urdf")
+                raise UvmsInputError(f"expected a .urdf, .xacro or .sdf file, found {spec.urdf!r}", source, "urdf")
             if not urdf.exists():
                 raise UvmsInputError(f"no such file: {urdf}", source, "urdf")
             return build_urdf_model(spec, urdf, source, frozenset(options or ())), (urdf,)

@@ -109,6 +109,10 @@ class Model:
         shape_count: (nb,) number of real rows of ``shape_drag`` per body (0: no shape drag).
         damping_point: (nb, 3) point the damping coefficients hold about, body frame [m]: the force is
             ``-(D_l + D_q diag|nu_p|) nu_p`` with ``nu_p`` that point's velocity relative to the fluid.
+        damping_cross: (nb, 2, 6, 6, 6) mixed quadratic damping (gz-sim's ``xUabsV``, ``xUV``; UUV Simulator's
+            forward-speed damping): ``f_i -= C[0, i, j, k] nu_j |nu_k| + C[1, i, j, k] nu_j nu_k`` at
+            ``damping_point``, ``[angular; linear]`` indices, matrix entries (zero by default;
+            :func:`uvms.hydro.fossen.fossen_cross_damping_force`).
         frames: named frames (:class:`Frame`); by default one per body (its own frame) and the end effector.
         dry_mass: (nb,) the mass that weighs [kg], when it is not ``mass`` (a URDF whose inertial masses include
             added mass, or weights without inertia of their own; ``docs/models.md``, "Point loads and dry
@@ -162,11 +166,15 @@ class Model:
     damping_linear: Any = None
     damping_quadratic: Any = None
     damping_point: Any = None
+    damping_cross: Any = None
     shape_drag: Any = None
     shape_count: Any = None
     dry_mass: Any = None
     dry_com: Any = None
     convention: str = "ned"
+    hydro_sources: tuple[tuple[str, str], ...] = ()
+    """``(("<link>: <quantity>", "<tag>"), ...)``: which tag of a Gazebo file each hydrodynamic number came
+    from (``uvms validate`` lists them; empty for other files)."""
 
     def __post_init__(self) -> None:
         n = int(np.shape(self.mass)[0]) - 1
@@ -185,6 +193,7 @@ class Model:
             "damping_linear": np.zeros((n + 1, 6, 6)),
             "damping_quadratic": np.zeros((n + 1, 6, 6)),
             "damping_point": np.zeros((n + 1, 3)),
+            "damping_cross": np.zeros((n + 1, 2, 6, 6, 6)),
             "shape_drag": np.zeros((n + 1, 0, 19)),
             "shape_count": np.zeros(n + 1, dtype=np.int64),
         }
@@ -205,7 +214,8 @@ class Model:
                      "link_drag_coefficient", "joint_rotation", "joint_position", "theta_offset", "ee_rotation",
                      "ee_position", "gravity", "current", "fluid_acceleration", "joint_axis", "joint_damping",
                      "joint_friction", "joint_friction_speed", "joint_limits", "link_cylinder_rotation",
-                     "link_cylinder_origin", "damping_linear", "damping_quadratic", "damping_point", "shape_drag"):
+                     "link_cylinder_origin", "damping_linear", "damping_quadratic", "damping_point", "damping_cross",
+                     "shape_drag"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
         object.__setattr__(self, "shape_count", _frozen(np.reshape(self.shape_count, n + 1), dtype=np.int64))
         if (self.dry_mass is None) != (self.dry_com is None):
@@ -324,6 +334,7 @@ class Model:
             changes["link_drag_coefficient"] = np.zeros_like(self.link_drag_coefficient)
             changes["damping_linear"] = np.zeros_like(self.damping_linear)
             changes["damping_quadratic"] = np.zeros_like(self.damping_quadratic)
+            changes["damping_cross"] = np.zeros_like(self.damping_cross)
             changes["shape_drag"] = _scale_shape_drag(self.shape_drag, 0.0)
         if not buoyancy:
             changes["buoyancy_mass"] = np.zeros_like(self.buoyancy_mass)
@@ -351,6 +362,7 @@ class Model:
             link_drag_coefficient=self.link_drag_coefficient * drag,
             damping_linear=self.damping_linear * drag,
             damping_quadratic=self.damping_quadratic * drag,
+            damping_cross=self.damping_cross * drag,
             shape_drag=_scale_shape_drag(self.shape_drag, drag),
         )
 
@@ -369,6 +381,7 @@ class Model:
             gravity=self.gravity, current=self.current, fluid_acceleration=self.fluid_acceleration,
             thrusters=self.thrusters, damping_linear=self.damping_linear[:1],
             damping_quadratic=self.damping_quadratic[:1], damping_point=self.damping_point[:1],
+            damping_cross=self.damping_cross[:1],
             shape_drag=self.shape_drag[:1], shape_count=self.shape_count[:1],
             dry_mass=None if self.dry_mass is None else self.dry_mass[:1],
             dry_com=None if self.dry_com is None else self.dry_com[:1],
@@ -434,6 +447,7 @@ class Model:
             damping_linear=body0(self.damping_linear, fr.convert_spatial_matrix),
             damping_quadratic=body0(self.damping_quadratic, fr.convert_spatial_matrix),
             damping_point=body0(self.damping_point, fr.convert_vectors),
+            damping_cross=body0(self.damping_cross, fr.convert_damping_tensor),
             joint_rotation=joint_rotation, joint_position=joint_position, shape_drag=shape_drag,
             ee_rotation=ee_rotation, ee_position=ee_position, frames=tuple(fixed_frame(f) for f in self.frames),
             thrusters=thrusters, gravity=fr.convert_vectors(self.gravity, src, frame),
@@ -464,7 +478,8 @@ class Model:
 
 _TREE_FIELDS = ("joint_names", "joint_parent", "joint_type", "joint_axis", "joint_damping", "joint_friction",
                 "joint_friction_speed", "joint_limits", "link_cylinder_rotation", "link_cylinder_origin", "ee_body",
-                "frames", "damping_linear", "damping_quadratic", "damping_point", "shape_drag", "shape_count",
+                "frames", "damping_linear", "damping_quadratic", "damping_point", "damping_cross", "shape_drag",
+                "shape_count",
                 "dry_mass", "dry_com")
 
 def _scale_shape_drag(table: np.ndarray, factor: float) -> np.ndarray:

@@ -40,8 +40,9 @@ from uvms.model.model import DEFAULT_FRICTION_SPEED, END_EFFECTOR, Frame, Model
 from uvms.model.xacro import XacroOptions
 from uvms.spatial import plucker, skew, spatial_inertia
 
-URDF_SUFFIXES = (".urdf", ".xacro")
-"""File suffixes read as robot descriptions (``.urdf.xacro`` ends in ``.xacro``)."""
+URDF_SUFFIXES = (".urdf", ".xacro", ".sdf", ".world")
+"""File suffixes read as robot descriptions (``.urdf.xacro`` ends in ``.xacro``; ``.sdf`` and ``.world`` are
+read by :mod:`uvms.model.sdf`)."""
 
 MOVING = ("revolute", "continuous", "prismatic")
 RELATIVE_TOLERANCE = 1e-9
@@ -53,7 +54,7 @@ MAX_LINKS = 1_000
 
 
 def is_robot_description(path: str | os.PathLike[str]) -> bool:
-    """Whether a path names a URDF or xacro file (by its suffix)."""
+    """Whether a path names a URDF, xacro or SDF file (by its suffix)."""
     return str(path).lower().endswith(URDF_SUFFIXES)
 
 
@@ -217,6 +218,8 @@ class LinkHydro:
     """``(rotation with x along the axis, origin, radius, length, drag coefficient)``, link frame."""
     damping: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
     """Fossen damping ``(D_l, D_q, point)``, link axes, the point in the link frame."""
+    damping_cross: np.ndarray | None = None
+    """Mixed quadratic damping (2, 6, 6, 6) at the damping point (:attr:`Model.damping_cross`), or ``None``."""
     shapes: list = field(default_factory=list)
     """:mod:`uvms.hydro.shapes` shapes posed in the link frame."""
     from_collision: float | None = None
@@ -232,12 +235,14 @@ class VehicleExtras:
     """What the YAML additions give beyond the URDF (all optional; zero hydrodynamics by default)."""
 
     name: str | None = None
-    frame: str = "ned"
-    """The convention the URDF and the additions are written in (``ned`` or ``enu``, :mod:`uvms.frames`)."""
-    density: float = 1000.0
-    gravity: tuple = (0.0, 0.0, 9.81)
-    """World gravity [m/s^2], in ``frame``'s world axes."""
-    current: tuple = (0.0, 0.0, 0.0)
+    frame: str | None = "ned"
+    """The convention the URDF and the additions are written in (``ned`` or ``enu``, :mod:`uvms.frames`);
+    ``None``: the file's (``enu`` for a file with Gazebo plugin tags, else ``ned``; :mod:`uvms.model.gazebo`)."""
+    density: float | None = 1000.0
+    """Fluid density [kg/m^3]; ``None``: the file's plugin tags', else 1000."""
+    gravity: tuple | None = (0.0, 0.0, 9.81)
+    """World gravity [m/s^2], in ``frame``'s world axes; ``None``: the file's world's, else 9.81 down."""
+    current: tuple | None = (0.0, 0.0, 0.0)
     fluid_acceleration: tuple = (0.0, 0.0, 0.0)
     vehicle_drag_area: tuple = (0.0, 0.0, 0.0)
     vehicle_drag_coefficient: tuple = (0.0, 0.0, 0.0)
@@ -274,6 +279,7 @@ class _Body:
     cylinder: tuple | None = None
     cylinder_link: str | None = None
     damping: tuple | None = None            # Fossen (D_l, D_q, point), body axes and frame
+    damping_cross: np.ndarray | None = None   # mixed quadratic damping at the damping point
     shapes: list = field(default_factory=list)   # hydrodynamic shapes posed in the body frame
     damping_link: str | None = None
 
@@ -405,12 +411,37 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
     source = str(path)
     extras = extras or VehicleExtras()
     xacro = extras.xacro if xacro is None else xacro
-    balanced: list | None = [] if (extras.balance_inertia if balance_inertia is None else balance_inertia) else None
-    robot = _parse(read_urdf_text(path, xacro), source)
+    text = read_urdf_text(path, xacro)
+    robot = _parse(text, source)
     _warn_missing_meshes(robot, Path(path).parent, source)
+    from uvms.model.uuv import read_uuv_tags
+
+    return model_from_robot(robot, source, extras, read_uuv_tags(text, source),
+                            extras.balance_inertia if balance_inertia is None else balance_inertia)
+
+
+def model_from_robot(robot, source: str, extras: VehicleExtras, tags=None, balance_inertia: bool = False) -> Model:
+    """The :class:`Model` of a parsed robot (``yourdfpy``'s, or :mod:`uvms.model.sdf`'s in the same form) with
+    the additions of ``extras`` and the Gazebo plugin tags ``tags`` (:class:`uvms.model.uuv.UuvTags`, or
+    ``None``): UUV Simulator's hydrodynamics go to the links the additions do not describe, its thrusters are
+    used when the additions give none; pinned joints (``lower = upper``), the thrusters' spin joints and joints
+    moving no mass or no inertia about their axis are frozen (one warning lists them and the ignored tags).
+    Which tag each hydrodynamic number came from is kept in :attr:`Model.hydro_sources`."""
+    from dataclasses import replace
+
+    from uvms.model import gazebo
+
+    tags = tags if tags is not None else gazebo.no_tags()
+    origins: dict[str, str] = {}
+    extras = gazebo.resolved_extras(extras, tags)
+    balanced: list | None = [] if balance_inertia else None
     root, children = _tree(robot, source)
     links = {link.name: link for link in robot.links}
     joint_names = {joint.name for joint in robot.joints}
+    extras = replace(extras, links=dict(extras.links))
+    _add_link_hydro(extras, tags, robot, root, source, origins)
+    frozen, pinned, notes = _frozen_joints(robot, children, links, root, extras, tags, source)
+    extras = replace(extras, fixed_joints=tuple(extras.fixed_joints) + tuple(frozen))
     for k, name in enumerate(extras.fixed_joints):
         if name not in joint_names:
             raise UvmsInputError(f"names joint {name!r}, which the URDF {source} does not have", extras.source,
@@ -446,6 +477,8 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
         for joint in children[name]:
             axis = _check_joint(joint, source, extras.fixed_joints)
             R_o, p_o = _pose(joint.origin, source, f"joint {joint.name!r}")
+            if joint.name in pinned:
+                R_o, p_o = gazebo.pinned_pose(joint, pinned[joint.name], R_o, p_o)
             if axis is None:
                 pending.append((joint.child, b, R @ R_o, p + R @ p_o, depth + 1, None))
             else:
@@ -456,9 +489,149 @@ def model_from_urdf(path: str | os.PathLike[str], extras: VehicleExtras | None =
         extras.vehicle_hydro.density = extras.density
         _merge_hydro(bodies[0], extras.vehicle_hydro, _Placement(root, np.eye(3), np.zeros(3), 0, root, links[root]),
                      (source, extras.source))
-    model = _assemble(bodies, axes, frames, extras, robot.name, source)
+    if tags.thrusters and not extras.thrusters:
+        extras = replace(extras, thrusters=gazebo.thrusters_of(tags, frames, robot, source))
+    model = _assemble(bodies, axes, frames, extras, robot.name, source, tuple(origins.items()))
     _warn_balanced(balanced or [], source)
+    gazebo.warn_unmapped(source, notes + tags.notes, tags.ignored)
     return model
+
+
+# -- Gazebo plugin tags (uvms.model.gazebo) joined to the tree
+
+def _empty(hydro) -> bool:
+    return hydro is None or not (np.any(hydro.added_mass) or hydro.fluid_mass or hydro.damping is not None
+                                 or hydro.shapes or hydro.from_collision is not None or hydro.cylinder is not None)
+
+
+def _lumped_mass(robot, name: str) -> float:
+    """Mass of link ``name`` and of the links fixed to it (Gazebo lumps them into one link)."""
+    links = {link.name: link for link in robot.links}
+    total, stack = 0.0, [name]
+    while stack:
+        link = links[stack.pop()]
+        if link.inertial is not None and link.inertial.mass is not None:
+            total += float(link.inertial.mass)
+        stack.extend(j.child for j in robot.joints if j.parent == link.name and j.type == "fixed")
+    return total
+
+
+def _add_link_hydro(extras, tags, robot, root: str, source: str, origins: dict | None) -> None:
+    """The links' tag hydrodynamics into ``extras.links`` (a fresh dict), except where the additions give them."""
+    names = {link.name for link in robot.links}
+    for name, tag in tags.links.items():
+        if name not in names:
+            raise UvmsInputError(f"the plugin names link {name!r}, which the description does not have", source,
+                                 f"gazebo/plugin/link {name!r}")
+        described = name in extras.links or (name == root and not _empty(extras.vehicle_hydro))
+        if described:
+            tags.ignored.append(f"{name}/* (described by {extras.source})")
+            continue
+        hydro = LinkHydro(density=extras.density)
+        if tag.added_mass is not None:
+            hydro.added_mass = np.array(tag.added_mass)
+        hydro.explicit_added_mass = tag.added_mass is not None or not tag.shape_added_mass
+        if tag.neutrally_buoyant:
+            hydro.fluid_mass = _lumped_mass(robot, name)
+        elif tag.volume > 0.0:
+            hydro.fluid_mass = float(extras.density * tag.volume)
+        hydro.explicit_buoyancy = tag.neutrally_buoyant or tag.volume > 0.0 or not tag.shape_buoyancy
+        hydro.center = np.array(tag.center, dtype=float)
+        if tag.damping_linear is not None or tag.damping_quadratic is not None or tag.damping_cross is not None:
+            zero = np.zeros((6, 6))
+            hydro.damping = (zero if tag.damping_linear is None else np.array(tag.damping_linear),
+                             zero if tag.damping_quadratic is None else np.array(tag.damping_quadratic), np.zeros(3))
+            hydro.damping_cross = None if tag.damping_cross is None else np.array(tag.damping_cross)
+        hydro.shapes = list(tag.shapes)
+        extras.links[name] = hydro
+        if origins is not None:
+            for quantity, origin in tag.origins.items():
+                origins[f"{name}: {quantity}"] = origin
+
+
+def _subtree_body_inertia(links, children, joint, frozen: set[str], source: str) -> np.ndarray:
+    """6x6 rigid inertia, about the joint's child frame, of the body the joint moves: its child link and every
+    link fixed (or frozen) to it (inertias breaking the triangle inequality balanced here: they are refused or
+    balanced with their message when the tree is built)."""
+    total = np.zeros((6, 6))
+    stack = [(joint.child, np.eye(3), np.zeros(3))]
+    while stack:
+        name, R, p = stack.pop()
+        total += _to_body(_link_inertia(links[name], source, []), R, p)
+        for j in children[name]:
+            if j.type == "fixed" or j.name in frozen:
+                R_o, p_o = _pose(j.origin)
+                stack.append((j.child, R @ R_o, p + R @ p_o))
+    return total
+
+
+def _carried_masses(robot, children, root: str) -> dict[str, float]:
+    """Mass of each link and of everything it carries, by link name."""
+    links = {link.name: link for link in robot.links}
+    order, stack = [], [root]
+    while stack:
+        name = stack.pop()
+        order.append(name)
+        stack.extend(j.child for j in children[name])
+    carried: dict[str, float] = {}
+    for name in reversed(order):
+        inertial = links[name].inertial
+        own = float(inertial.mass) if inertial is not None and inertial.mass is not None else 0.0
+        carried[name] = own + sum(carried[j.child] for j in children[name])
+    return carried
+
+
+def _frozen_joints(robot, children, links, root: str, extras, tags, source: str):
+    """``(joints to freeze, {pinned joint: its value}, notes)``: pinned joints (``lower = upper``, revolute or
+    prismatic), thrusters' spin joints, and joints moving no mass or no inertia about their axis."""
+    already = set(extras.fixed_joints)
+    frozen: list[str] = []
+    pinned: dict[str, float] = {}
+    notes: list[str] = []
+    spin = {t.joint for t in tags.thrusters}
+    names = {j.name for j in robot.joints}
+    for t in tags.thrusters:
+        if t.joint not in names:
+            raise UvmsInputError(f"the thruster plugin names joint {t.joint!r}, which the description does not "
+                                 "have", source, f"thruster {t.thruster_id}")
+    reasons: dict[str, list[str]] = {"pinned by its limits (lower = upper)": [], "a thruster's spin joint": [],
+                                     "moves no mass or no inertia about its axis": []}
+    for joint in robot.joints:
+        if joint.type not in MOVING or joint.name in already or joint.mimic is not None:
+            continue
+        lim = joint.limit
+        if (joint.type != "continuous" and lim is not None and lim.lower is not None and lim.upper is not None
+                and float(lim.lower) == float(lim.upper) and math.isfinite(float(lim.lower))):
+            pinned[joint.name] = float(lim.lower)
+            reasons["pinned by its limits (lower = upper)"].append(joint.name)
+        elif joint.name in spin:
+            reasons["a thruster's spin joint"].append(joint.name)
+        else:
+            continue
+        frozen.append(joint.name)
+    done = already | set(frozen)
+    carried = _carried_masses(robot, children, root)
+    for joint in robot.joints:
+        if joint.type not in MOVING or joint.name in done or joint.mimic is not None:
+            continue
+        axis = np.array([1.0, 0.0, 0.0]) if joint.axis is None else np.asarray(joint.axis, dtype=float)
+        norm = float(np.linalg.norm(axis))
+        if not norm > 0:
+            continue                     # refused later with its own message
+        axis = axis / norm
+        I = _subtree_body_inertia(links, children, joint, done, source)
+        if joint.type == "prismatic":
+            along, scale = float(I[3, 3]), float(I[3, 3])
+        else:
+            along, scale = float(axis @ I[:3, :3] @ axis), float(np.trace(I[:3, :3]))
+        if carried[joint.child] <= 0.0 or not along > 1e-9 * max(scale, 1e-300):
+            frozen.append(joint.name)
+            reasons["moves no mass or no inertia about its axis"].append(joint.name)
+    for reason, joints in reasons.items():
+        if joints and reason != "a thruster's spin joint":      # expected: frozen without a note
+            notes.append(f"froze {len(joints)} joint(s) {reason}: {', '.join(joints[:4])}"
+                         f"{' ...' if len(joints) > 4 else ''}")
+    return frozen, pinned, notes
 
 
 def collision_shapes(link, drag_coefficient: float, source: str | None = None) -> list:
@@ -547,18 +720,21 @@ def _merge_hydro(body: _Body, hydro: LinkHydro, place: _Placement, sources: tupl
                                  "damping: one damping table per moving body", extras_source, where)
         D_l, D_q, point = hydro.damping
         rotated = not np.allclose(R, np.eye(3), rtol=0.0, atol=1e-12)
-        if rotated and np.any(D_q):
+        if rotated and (np.any(D_q) or hydro.damping_cross is not None):
             raise UvmsInputError(f"link {link!r} is fixed to its body with a rotation: quadratic damping "
                                  "(D_q diag|nu|) does not rotate into the body's axes; give it on the moving link",
                                  extras_source, where)
         B = np.zeros((6, 6))                 # link-to-body rotation of [angular; linear] vectors
         B[:3, :3] = B[3:, 3:] = R
         body.damping = (B @ D_l @ B.T, D_q, p + R @ point)
+        body.damping_cross = hydro.damping_cross
         body.damping_link = link
 
 
-def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str) -> Model:
-    """The :class:`Model` of the bodies (in tree order), their joints' axes and the frames."""
+def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_name: str, source: str,
+              hydro_sources: tuple = ()) -> Model:
+    """The :class:`Model` of the bodies (in tree order), their joints' axes and the frames (``hydro_sources``:
+    :attr:`Model.hydro_sources`)."""
     from uvms.hydro.shapes import shape_drag_tables
 
     nb = len(bodies)
@@ -652,9 +828,11 @@ def _assemble(bodies: list[_Body], axes, frames, extras: VehicleExtras, robot_na
         damping_linear=np.array([b.damping[0] if b.damping else np.zeros((6, 6)) for b in bodies]),
         damping_quadratic=np.array([b.damping[1] if b.damping else np.zeros((6, 6)) for b in bodies]),
         damping_point=np.array([b.damping[2] if b.damping else np.zeros(3) for b in bodies]).reshape(nb, 3),
+        damping_cross=np.array([b.damping_cross if b.damping_cross is not None else np.zeros((2, 6, 6, 6))
+                                for b in bodies]),
         shape_drag=shape_drag_tables([b.shapes for b in bodies]),
         shape_count=np.array([len(b.shapes) for b in bodies]),
-        convention=extras.frame,
+        convention=extras.frame, hydro_sources=hydro_sources,
     )
 
 

@@ -616,6 +616,29 @@ def ros_package(name: str) -> Path | None:
     return None
 
 
+def _nearby_package(name: str, top: Path) -> Path | None:
+    """A folder named ``name`` (or holding the ``package.xml`` of ``name``) among the top-level file's parent
+    folders (up to 4 levels up) and their sub-folders two levels down, looked at only to word the refusal
+    (nothing is read from it); at most :data:`MAX_PACKAGE_SEARCH_FOLDERS` folders."""
+    visited = 0
+    for ancestor in [top.parent, *top.parent.parents][:5]:
+        level = [ancestor]
+        for _ in range(3):
+            below = []
+            for folder in level:
+                visited += 1
+                if visited > MAX_PACKAGE_SEARCH_FOLDERS:
+                    return None
+                if folder.name == name or _package_name(folder) == name:
+                    return folder.resolve()
+                try:
+                    below.extend(sorted(p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")))
+                except OSError:
+                    continue
+            level = below
+    return None
+
+
 def _extension_hook(text: str) -> Any:
     """xacro's ``eval_extension``: ``$(arg)``, ``$(find)`` of a named package, ``$(dirname)``, ``$(eval)``,
     and ``$(env)`` / ``$(optenv)`` only when allowed."""
@@ -632,9 +655,12 @@ def _extension_hook(text: str) -> Any:
         if folder is None:
             folder = ros_package(words[0])
             if folder is None:
+                hint = _nearby_package(words[0], ctx.top)
+                seen = (f"; a folder {hint} is near the file: ROS_PACKAGE_PATH={hint.parent} or package_paths="
+                        f"{{{words[0]!r}: {str(hint)!r}}}" if hint is not None else "")
                 raise _refuse(f"$(find {words[0]}): package {words[0]!r} is not named; give its folder in "
                               "package_paths, or add the folder holding it to ROS_PACKAGE_PATH (a xacro may "
-                              "read only its own folder and the packages you name)")
+                              f"read only its own folder and the packages you name){seen}")
             ctx.roots = (*ctx.roots, folder)
         return str(Path(folder).resolve())
     if command in ("env", "optenv") and words:

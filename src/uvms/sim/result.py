@@ -183,6 +183,13 @@ class Result:
         table.attrs["frame"] = self.metadata.get("frame", "ned")
         return table
 
+    def to_mcap(self, path, model, *, thrusters=None):
+        """Write this run of ``model`` as ROS 2 messages in an MCAP file (:func:`uvms.ros.write_mcap`,
+        ``docs/ros.md``; the optional extra ``uvms[ros]``). Returns the path."""
+        from uvms.ros import write_mcap
+
+        return write_mcap(self, path, model=model, thrusters=thrusters)
+
     def summary(self) -> dict[str, Any]:
         """Peaks, final state and run health (JSON-ready); the numbers are :mod:`uvms.sim.metrics`' named
         metrics and :func:`uvms.sim.health.run_health`."""

@@ -94,18 +94,24 @@ def _title(model, state) -> str:
     return f"{model.name}: q = [{q}] rad" if state.q.size else str(model.name)
 
 
-def show(model, state=None, *, q=None, thrusters=None, title: str | None = None):
+def show(model, state=None, *, q=None, thrusters=None, title: str | None = None, flow=None, time: float = 0.0):
     """The model (a Model, or a bundled model name or file path) at ``state`` (default: at the origin, joints at
     zero; ``q`` overrides the joint angles) as an interactive plotly Figure: shapes, body frames, joint axes,
-    centres of mass and buoyancy, thrusters."""
+    centres of mass and buoyancy, thrusters; with ``flow`` (a scenario's fluid keywords,
+    :func:`uvms.view.water.flow_of_scenario`) the free surface and flow arrows at ``time`` [s] too."""
     from uvms.view.plotly_html import pose_figure
 
     model = as_model(model)
     scene, snap, state = _snapshot(model, state, q, thrusters)
-    return pose_figure(scene, snap, title=title or _title(model, state))
+    water = None
+    if flow is not None:
+        from uvms.view.water import water_drawing
+
+        water = water_drawing(flow, model.convention, [time], snap.points())
+    return pose_figure(scene, snap, title=title or _title(model, state), water=water)
 
 
-def picture(model, state=None, *, q=None, thrusters=None, title: str | None = None):
+def picture(model, state=None, *, q=None, thrusters=None, title: str | None = None, flow=None, time: float = 0.0):
     """:func:`show` as a static matplotlib Figure (for ``.png``, ``.pdf``, ``.svg``)."""
     import numpy as np
 
@@ -114,8 +120,15 @@ def picture(model, state=None, *, q=None, thrusters=None, title: str | None = No
 
     model = as_model(model)
     scene, snap, state = _snapshot(model, state, q, thrusters)
-    ranges = equal_ranges(np.vstack([snap.points(), 1.15 * scene.world_axis_length * np.eye(3)]))
-    return png.pose_figure(scene, snap, ranges, title=title or _title(model, state))
+    points = [snap.points(), 1.15 * scene.world_axis_length * np.eye(3)]
+    water = None
+    if flow is not None:
+        from uvms.view.water import water_drawing
+
+        water = water_drawing(flow, model.convention, [time], snap.points())
+        points.append(water.points())
+    ranges = equal_ranges(np.vstack(points))
+    return png.pose_figure(scene, snap, ranges, title=title or _title(model, state), water=water)
 
 
 def animate_run(result, model=None, *, fps: float = DEFAULT_FPS, speed: float = 1.0,

@@ -14,6 +14,7 @@ import os
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -39,6 +40,7 @@ class Replay:
         vehicle_path, ee_path: (N, 3) positions of the vehicle and the end effector per frame [m].
         peak_thrust: largest commanded thrust magnitude of the run [N] (0 without thrust signals).
         title: a one-line description.
+        water: the free surface and flow arrows per frame (:mod:`uvms.view.water`), ``None`` in still water.
     """
 
     scene: Scene
@@ -51,6 +53,7 @@ class Replay:
     ee_path: np.ndarray
     peak_thrust: float
     title: str
+    water: Any = None
 
     def ranges(self) -> np.ndarray:
         return equal_ranges(np.vstack([s.points() for s in self.snaps]
@@ -111,9 +114,10 @@ def drawable_samples(result) -> int:
 
 
 def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_frames: int = DEFAULT_MAX_FRAMES,
-           thrusters=None, title: str | None = None) -> Replay:
+           thrusters=None, title: str | None = None, flow=None) -> Replay:
     """The frames of ``result`` (a :class:`~uvms.sim.result.Result`) drawn with ``model``'s scene; ``thrusters``
-    (default: the model's) are the run's thruster layout."""
+    (default: the model's) are the run's thruster layout; ``flow`` (the keyword arguments of the run's fluid
+    object, :func:`uvms.sim.scenario.environment.flow_parts`) adds the free surface and flow arrows."""
     from uvms.dynamics.poses import forward_kinematics
 
     if len(result.time) == 0:
@@ -143,9 +147,15 @@ def replay(result, model, *, fps: float = DEFAULT_FPS, speed: float = 1.0, max_f
     if drawn < len(result.time):
         head += (f"; stops at t = {result.time[drawn - 1]:.4g} s (later poses not finite or beyond "
                  f"{REPLAY_LIMIT:g})")
-    return Replay(scene=scene, snaps=snaps, times=np.asarray(result.time)[samples], samples=samples, fps=used,
+    times = np.asarray(result.time)[samples]
+    water = None
+    if flow is not None:
+        from uvms.view.water import water_drawing
+
+        water = water_drawing(flow, model.convention, times, np.vstack([s.points() for s in snaps]))
+    return Replay(scene=scene, snaps=snaps, times=times, samples=samples, fps=used,
                   target=target, vehicle_path=np.array([s.vehicle for s in snaps]),
-                  ee_path=np.array([s.end_effector for s in snaps]), peak_thrust=peak, title=head)
+                  ee_path=np.array([s.end_effector for s in snaps]), peak_thrust=peak, title=head, water=water)
 
 
 def replay_figure(rp: Replay, *, start: int = 0):
@@ -238,7 +248,15 @@ def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -
 
 
 def model_of_run(directory):
-    """The model and thruster layout of a saved run, from its ``scenario.yaml`` (written by ``uvms run``).
+    """The model and thruster layout of a saved run, from its ``scenario.yaml`` (:func:`scenario_of_run`)."""
+    from uvms.sim.run import Actuation
+
+    scenario = scenario_of_run(directory)
+    return scenario.model, Actuation.named(scenario.spec.actuators, scenario.model).thrusters
+
+
+def scenario_of_run(directory):
+    """The scenario of a saved run, from its ``scenario.yaml`` (written by ``uvms run``).
 
     The copy is the user's scenario verbatim, so a relative ``model:`` path is relative to the folder the
     scenario file was in when it ran (``metadata.scenario_folder`` of ``result.json``; older runs: the folder
@@ -246,7 +264,6 @@ def model_of_run(directory):
     with its model file)."""
     from uvms.safe_yaml import read_yaml_mapping
     from uvms.sim.result import load_result_summary
-    from uvms.sim.run import Actuation
     from uvms.sim.scenario import scenario_from_data
 
     directory = Path(directory)
@@ -260,7 +277,7 @@ def model_of_run(directory):
     scenario = scenario_from_data(data, source=str(path), base_dir=_model_folder(data.get("model"), directory,
                                                                                    metadata),
                                   text=text, default_name=directory.name)
-    return scenario.model, Actuation.named(scenario.spec.actuators, scenario.model).thrusters
+    return scenario
 
 
 def _model_folder(model, directory: Path, metadata: dict) -> Path:

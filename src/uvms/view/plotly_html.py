@@ -178,13 +178,20 @@ def scene_layout(ranges: np.ndarray, title: str, scene: Scene | None = None) -> 
     )
 
 
-def pose_figure(scene: Scene, snap: Snapshot, *, title: str):
-    """A plotly figure of ``scene`` at one pose (the snapshot)."""
+def pose_figure(scene: Scene, snap: Snapshot, *, title: str, water=None):
+    """A plotly figure of ``scene`` at one pose (the snapshot), with ``water`` (a :class:`uvms.view.water.Water`
+    of one frame) if given."""
     import plotly.graph_objects as go
 
     world = world_traces(scene)
     points = np.vstack([snap.points(), 1.15 * scene.world_axis_length * np.eye(3)])
-    fig = go.Figure(data=world + moving_traces(scene, snap))
+    extra = []
+    if water is not None:
+        from uvms.view.water import water_traces
+
+        extra = water_traces(water, 0)
+        points = np.vstack([points, water.points()])
+    fig = go.Figure(data=world + moving_traces(scene, snap) + extra)
     fig.update_layout(**scene_layout(equal_ranges(points), title, scene))
     return fig
 
@@ -264,6 +271,11 @@ def animation_figure(replay, *, start: int = 0, ghost=None, ghost_name: str = "l
     if ghost is not None:
         first += ghost_traces(ghost.scene, ghost.snaps[start], ghost_name) + ghost_trail(start)
     kinds = [t.type for t in first]
+    water = getattr(replay, "water", None)
+    if water is not None:
+        from uvms.view.water import water_frame_data, water_traces
+
+        first += water_traces(water, start)
 
     def positions(k: int) -> list:
         """Only what moves (the points): a frame's traces are merged into the drawn ones."""
@@ -271,7 +283,8 @@ def animation_figure(replay, *, start: int = 0, ghost=None, ghost_name: str = "l
                                                  np.asarray(ee_path[: k + 1], dtype=np.float32)]
         if ghost is not None:
             pts += ghost_points(ghost.snaps[k]) + [np.asarray(ghost.vehicle_path[: k + 1], dtype=np.float32)]
-        return [dict(type=kind, x=p[:, 0], y=p[:, 1], z=p[:, 2]) for kind, p in zip(kinds, pts, strict=True)]
+        moved = [dict(type=kind, x=p[:, 0], y=p[:, 1], z=p[:, 2]) for kind, p in zip(kinds, pts, strict=True)]
+        return moved + (water_frame_data(water, k) if water is not None else [])
 
     moving_index = list(range(len(static), len(static) + len(first)))
     names = [str(k) for k in range(len(snaps))]          # unique, whatever the spacing of the times
@@ -280,7 +293,8 @@ def animation_figure(replay, *, start: int = 0, ghost=None, ghost_name: str = "l
     decimals = int(min(6, max(2, np.ceil(-np.log10(smallest)))))
     frames = [go.Frame(data=positions(k), traces=moving_index, name=names[k]) for k in range(len(snaps))]
     drawn = snaps + (ghost.snaps if ghost is not None else [])
-    points = np.vstack([s.points() for s in drawn] + [1.15 * scene.world_axis_length * np.eye(3)])
+    points = np.vstack([s.points() for s in drawn] + [1.15 * scene.world_axis_length * np.eye(3)]
+                       + ([water.points()] if water is not None else []))
     fig = go.Figure(data=static + first, frames=frames)
     layout = scene_layout(equal_ranges(points), title, scene)
     add_player(layout, fps=fps, times=times, names=names, start=start, decimals=decimals)

@@ -112,10 +112,23 @@ def legend(ax, scene: Scene) -> None:
               fontsize=8, framealpha=0.8)
 
 
-def pose_figure(scene: Scene, snap: Snapshot, ranges: np.ndarray, *, title: str):
-    """A matplotlib Figure of ``scene`` at one pose."""
+def draw_water(ax, water, k: int = 0) -> None:
+    """The free surface and current arrows of frame ``k`` of a :class:`uvms.view.water.Water`."""
+    from uvms.view.water import ARROW_COLOR, SURFACE_COLOR
+
+    X, Y = np.meshgrid(water.x, water.y)
+    ax.plot_surface(X, Y, water.heights[k], color=SURFACE_COLOR, alpha=0.35, linewidth=0, shade=False)
+    if water.starts.shape[0]:
+        _segments(ax, water.starts, water.starts + water.scale * water.velocities[k], color=ARROW_COLOR, lw=1.2)
+
+
+def pose_figure(scene: Scene, snap: Snapshot, ranges: np.ndarray, *, title: str, water=None):
+    """A matplotlib Figure of ``scene`` at one pose (with ``water``, a :class:`uvms.view.water.Water`, if
+    given)."""
     fig, ax = new_figure()
     draw_world(ax, scene)
+    if water is not None:
+        draw_water(ax, water)
     draw_snapshot(ax, scene, snap)
     style_axes(ax, ranges, title, scene)
     legend(ax, scene)

@@ -3,7 +3,7 @@
 A scenario is validated like a model file (pydantic v2, unknown keys rejected, one-line errors naming the file
 and the dotted field path), then checked against its model (joint count of torque vectors and initial joint
 angles, controller name). ``docs/scenarios.md`` documents every field; the bundled scenarios
-(``uvms/scenarios/*.yaml``, loadable by name) are the paper's three cases of Section 6 and two of the BlueROV2
+(``uvms/scenarios/*.yaml``, loadable by name) are the paper's three cases of Section 6 and three of the BlueROV2
 Heavy + Alpha 5.
 
     scenario = load_scenario("paper_case2_released")     # or a path
@@ -26,6 +26,7 @@ from uvms.sim.scenario.build import (
     run_scenario,
     tracker_for,
 )
+from uvms.sim.scenario.environment import flow_parts
 from uvms.sim.scenario.load import bundled_scenarios, load_scenario, resolve_scenario_path, scenario_from_data
 from uvms.sim.scenario.schema import (
     INTEGRATORS,
@@ -34,6 +35,8 @@ from uvms.sim.scenario.schema import (
     CurrentSpec,
     CurrentTableSpec,
     EnvironmentOverrides,
+    EnvironmentSpec,
+    FieldSpec,
     HealthSpec,
     InitialStateSpec,
     InputsSpec,
@@ -42,13 +45,20 @@ from uvms.sim.scenario.schema import (
     JointTrajectorySpec,
     ModelOverrides,
     OutputsSpec,
+    PowerLawSpec,
+    ProfileSpec,
     ScenarioSpec,
+    SpatialCurrentSpec,
+    SpectrumTableSpec,
     Tolerances,
     TorqueStep,
+    WavesSpec,
 )
 
 __all__ = [
     "INTEGRATORS", "ConstantTorques", "ControllerSpec", "CurrentSpec", "CurrentTableSpec", "EnvironmentOverrides",
+    "EnvironmentSpec", "FieldSpec", "PowerLawSpec", "ProfileSpec", "SpatialCurrentSpec", "SpectrumTableSpec",
+    "WavesSpec", "flow_parts",
     "HealthSpec", "InitialStateSpec", "InputsSpec", "JointTorques", "JointMotionSpec", "JointTrajectorySpec",
     "ModelOverrides", "OutputsSpec", "Scenario", "ScenarioSpec", "Tolerances", "TorqueStep", "apply_overrides",
     "build_controller", "build_initial_state", "bundled_scenarios", "load_scenario", "plan_scenario", "resolve_scenario_path",

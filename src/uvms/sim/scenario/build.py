@@ -74,16 +74,20 @@ class Scenario:
 
     def current(self) -> CurrentTable | None:
         """The current input (``None``: the model's environment)."""
-        c = self.spec.inputs.current
-        if c is None:
-            return None
-        if c.table is None:
-            return CurrentTable.constant(c.constant, self.model.fluid_acceleration)
-        t = np.array(c.table.times, dtype=float)
-        v = np.array(c.table.velocity, dtype=float)
-        if c.table.acceleration is not None:
-            return CurrentTable(t, v, np.array(c.table.acceleration, dtype=float))
-        return CurrentTable.from_velocity_table(t, v, self.spec.duration, self.spec.step)
+        from uvms.sim.scenario.environment import uniform_current
+
+        return uniform_current(self.spec, self.model)
+
+    def flow_parts(self) -> dict[str, Any]:
+        """The keyword arguments of :class:`uvms.hydro.flow.Flow` for this scenario (uniform current, profile,
+        field, waves, surface; :func:`uvms.sim.scenario.environment.flow_parts`), built once: loading builds
+        them for a scenario with waves or a current varying in space, so that a bad wave or current input fails
+        before anything runs."""
+        if "flow_parts" not in self._built:
+            from uvms.sim.scenario.environment import flow_parts
+
+            self._built["flow_parts"] = flow_parts(self.spec, self.model, self.source)
+        return self._built["flow_parts"]
 
     def joint_motion(self):
         """The prescribed joint motion (``None`` without one), built once (:func:`build_joint_motion`)."""
@@ -122,6 +126,10 @@ class Scenario:
         if self.spec.initial_state.trimmed:
             self.initial_state()                          # no rest attitude: fail now
         self.joint_motion()                               # a bad table, unknown joint, too short: fail now
+        from uvms.sim.scenario.environment import has_real_water
+
+        if has_real_water(self.spec):
+            self.flow_parts()                             # bad waves, a bad current profile or field file: fail now
         if self.spec.controller is not None and "controller" not in self._built:
             self._built["controller"] = build_controller(self.spec.controller, self.model, self.source)
 
@@ -136,8 +144,12 @@ class Scenario:
         callers that change one input replace its entry, e.g. ``controller`` or ``actuation``, and then call
         :func:`uvms.sim.health.actuation_metadata` for a new ``actuation``)."""
         from uvms.sim.run import Actuation
+        from uvms.sim.scenario.environment import has_real_water
 
         spec = self.spec
+        if has_real_water(spec):   # until the compiled fluid object (uvms.hydro.flow) takes self.flow_parts()
+            raise UvmsInputError("waves and currents varying in space need the fluid object uvms.hydro.flow, "
+                                 "which this build of uvms does not have yet", self.source, "environment")
         inputs = spec.inputs
         joint_torques = inputs.torque_schedule()
         control_period = None                     # the vehicle controller runs at its own period

@@ -37,6 +37,7 @@ from uvms.schema_base import (
     Vector,
     fail,
     finite_number,
+    numbers,
     show,
 )
 from uvms.sim.health import HealthLimits
@@ -186,6 +187,177 @@ class CurrentSpec(Spec):
         return self
 
 
+class SpectrumTableSpec(Spec):
+    """A user wave spectrum: one-sided density ``densities`` [m^2 s/rad] at ``frequencies`` [rad/s], linear in
+    between, zero outside."""
+
+    frequencies: Vector                           # angular frequencies [rad/s], increasing, > 0
+    densities: Vector                             # S(omega) [m^2 s/rad], >= 0
+
+    @model_validator(mode="after")
+    def _consistent(self) -> SpectrumTableSpec:
+        f, s = self.frequencies, self.densities
+        if len(f) < 2 or len(f) > MAX_TABLE_ROWS:
+            raise fail(f"expected 2 to {MAX_TABLE_ROWS} frequencies, found {len(f)}", "frequencies")
+        if f[0] <= 0 or any(b <= a for a, b in zip(f, f[1:])):
+            raise fail(f"expected positive frequencies in increasing order, found {show(list(f))}", "frequencies")
+        if len(s) != len(f):
+            raise fail(f"expected one density per frequency ({len(f)}), found {len(s)}", "densities")
+        if any(v < 0 for v in s) or max(s) <= 0:
+            raise fail(f"expected densities >= 0, not all zero, found {show(list(s))}", "densities")
+        return self
+
+    def peak(self) -> float:
+        """The frequency of the largest density [rad/s]."""
+        return self.frequencies[max(range(len(self.densities)), key=self.densities.__getitem__)]
+
+
+MAX_TABLE_ROWS = 10_000
+"""Most rows of a spectrum or current-profile table in a scenario file."""
+
+_REGULAR_KEYS = ("height", "period", "phase")
+_IRREGULAR_KEYS = ("spectrum", "significant_height", "peak_period", "peak_factor", "components", "seed",
+                   "spreading", "frequency_range", "table")
+
+
+class WavesSpec(Spec):
+    """Linear (Airy) waves (``docs/environment.md``): ``type: regular`` (``height``, ``period``, ``phase``) or
+    ``type: irregular`` (a spectrum, its components and seed); both take ``direction`` and ``water_depth``."""
+
+    type: Literal["regular", "irregular"]
+    direction: Annotated[float, BeforeValidator(finite_number)] = 0.0   # travel direction, +x toward +y [rad]
+    water_depth: Positive | None = None           # h below the mean surface [m]; default: deep water
+    height: Positive | None = None                # regular: H = 2 a [m]
+    period: Positive | None = None                # regular: T [s]
+    phase: Annotated[float, BeforeValidator(finite_number)] = 0.0       # regular: phi [rad] (0: crest at origin)
+    spectrum: Literal["jonswap", "pierson_moskowitz", "table"] | None = None   # irregular
+    significant_height: Positive | None = None    # irregular: H_s [m] (jonswap, pierson_moskowitz)
+    peak_period: Positive | None = None           # irregular: T_p [s] (jonswap, pierson_moskowitz)
+    peak_factor: Annotated[float, BeforeValidator(finite_number), Field(ge=1, le=7)] = 3.3   # jonswap gamma [-]
+    components: Annotated[int, Strict(), Field(ge=1, le=10_000)] = 50     # irregular: how many [-]
+    seed: Annotated[int, Strict(), Field(ge=0)] = 0                     # irregular: random frequencies, phases
+    spreading: NonNegative | None = None          # irregular: s of cos^2s spreading; default: one direction
+    frequency_range: Annotated[tuple[float, float], numbers(2, minimum=0.0)] | None = None   # [rad/s]
+    table: SpectrumTableSpec | None = None        # spectrum: table
+
+    @model_validator(mode="after")
+    def _fields_of_the_type(self) -> WavesSpec:
+        own, other = (_REGULAR_KEYS, _IRREGULAR_KEYS) if self.type == "regular" else (_IRREGULAR_KEYS, _REGULAR_KEYS)
+        for key in other:
+            if key in self.model_fields_set:
+                raise fail(f"not a field of type: {self.type} (its fields: {', '.join(own)}, direction, "
+                           f"water_depth)", key)
+        if self.type == "regular":
+            for key in ("height", "period"):
+                if getattr(self, key) is None:
+                    raise fail("expected a value (required for type: regular), found none", key)
+            return self
+        if self.spectrum is None:
+            raise fail("expected jonswap, pierson_moskowitz or table (required for type: irregular), found none",
+                       "spectrum")
+        analytic = self.spectrum != "table"
+        needed = ("significant_height", "peak_period") if analytic else ("table",)
+        unused = ("table",) if analytic else ("significant_height", "peak_period", "peak_factor")
+        for key in needed:
+            if getattr(self, key) is None:
+                raise fail(f"expected a value (required for spectrum: {self.spectrum}), found none", key)
+        for key in unused:
+            if key in self.model_fields_set:
+                raise fail(f"not used by spectrum: {self.spectrum}", key)
+        if self.spectrum == "pierson_moskowitz" and "peak_factor" in self.model_fields_set:
+            raise fail("not used by spectrum: pierson_moskowitz (jonswap with peak_factor 1 is the same)",
+                       "peak_factor")
+        lo, hi = self.frequencies()
+        if not 0.0 < lo < hi:
+            raise fail(f"expected 0 < lower < upper [rad/s], found {show([lo, hi])}", "frequency_range")
+        peak = self.peak()
+        if not lo <= peak <= hi:
+            raise fail(f"expected the spectrum's peak ({peak:.4g} rad/s) inside the frequency range, found "
+                       f"[{lo:.4g}, {hi:.4g}] rad/s", "frequency_range")
+        return self
+
+    def peak(self) -> float:
+        """An irregular sea's peak frequency [rad/s]: ``2 pi / T_p``, or a table's largest density."""
+        return self.table.peak() if self.spectrum == "table" else 2.0 * np.pi / self.peak_period
+
+    def frequencies(self) -> tuple[float, float]:
+        """The discretised range [rad/s]: ``frequency_range``, else ``(0.5, 4) omega_p`` for an analytic
+        spectrum (:data:`uvms.hydro.waves.DEFAULT_RANGE`) and the table's own range."""
+        if self.frequency_range is not None:
+            return self.frequency_range
+        if self.spectrum == "table":
+            return self.table.frequencies[0], self.table.frequencies[-1]
+        from uvms.hydro.waves import DEFAULT_RANGE
+
+        wp = self.peak()
+        return DEFAULT_RANGE[0] * wp, DEFAULT_RANGE[1] * wp
+
+
+class PowerLawSpec(Spec):
+    """DNV-RP-C205 Eq. 4.1.3: ``v(d) = surface_velocity ((h - d) / h)^exponent`` for depths ``0 <= d <= h``."""
+
+    surface_velocity: Vec3                        # world [m/s]
+    water_depth: Positive                         # h [m]
+    exponent: Positive = 1.0 / 7.0                # alpha [-]
+
+
+class ProfileSpec(Spec):
+    """A current against depth below the mean surface, added to the uniform current: a table (``depth``,
+    ``velocity``) or a ``power_law``."""
+
+    depth: Vector | None = None                   # [m], positive down, increasing
+    velocity: tuple[Vec3, ...] | None = None      # world [m/s], one row per depth
+    power_law: PowerLawSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_form(self) -> ProfileSpec:
+        table = self.depth is not None or self.velocity is not None
+        if table == (self.power_law is not None):
+            raise fail(f"expected either depth and velocity or power_law, found {'both' if table else 'neither'}")
+        if table:
+            if self.depth is None or self.velocity is None:
+                raise fail("expected both depth and velocity", "depth" if self.depth is None else "velocity")
+            if len(self.depth) > MAX_TABLE_ROWS:
+                raise fail(f"expected at most {MAX_TABLE_ROWS} depths, found {len(self.depth)}", "depth")
+            if any(b <= a for a, b in zip(self.depth, self.depth[1:])):
+                raise fail(f"expected strictly increasing depths, found {show(list(self.depth))}", "depth")
+            if len(self.velocity) != len(self.depth):
+                raise fail(f"expected one row per depth ({len(self.depth)}), found {len(self.velocity)}",
+                           "velocity")
+        return self
+
+
+class FieldSpec(Spec):
+    """A gridded current read from ``file`` (CSV or NetCDF, ``docs/environment.md``), added to the uniform
+    current; ``outside``: what it is off the grid."""
+
+    file: Annotated[str, Field(min_length=1)]     # relative to the scenario file, inside its folder
+    outside: Literal["hold", "zero", "error"] = "error"
+
+
+class SpatialCurrentSpec(Spec):
+    """A current that varies in space (exactly one of ``profile`` or ``field``)."""
+
+    profile: ProfileSpec | None = None
+    field: FieldSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_form(self) -> SpatialCurrentSpec:
+        if (self.profile is None) == (self.field is None):
+            raise fail(f"expected exactly one of 'profile' or 'field', found "
+                       f"{'both' if self.profile is not None else 'neither'}")
+        return self
+
+
+class EnvironmentSpec(Spec):
+    """Real water (``docs/environment.md``): waves and a current varying in space, both added to the uniform
+    current (``inputs.current`` or the model's)."""
+
+    waves: WavesSpec | None = None
+    current: SpatialCurrentSpec | None = None
+    surface: Annotated[float, BeforeValidator(finite_number)] = 0.0   # world z of the mean free surface [m]
+
+
 class JointTrajectorySpec(Spec):
     """A joint-space trajectory (e.g. a pilot's master-arm motion) tracked by an arm controller
     (:mod:`uvms.control.arm`): clamped cubic spline through the knots."""
@@ -323,6 +495,7 @@ class ScenarioSpec(Spec):
     vehicle: Literal["released", "fixed"] = "released"
     initial_state: InitialStateSpec = InitialStateSpec()
     inputs: InputsSpec = InputsSpec()
+    environment: EnvironmentSpec = EnvironmentSpec()   # waves, currents varying in space
     controller: ControllerSpec | None = None
     actuators: str = "ideal"                      # thruster layout (uvms.thrusters.layouts)
     outputs: OutputsSpec = OutputsSpec()
