@@ -147,9 +147,11 @@ class Scenario:
         from uvms.sim.scenario.environment import has_real_water
 
         spec = self.spec
-        if has_real_water(spec):   # until the compiled fluid object (uvms.hydro.flow) takes self.flow_parts()
-            raise UvmsInputError("waves and currents varying in space need the fluid object uvms.hydro.flow, "
-                                 "which this build of uvms does not have yet", self.source, "environment")
+        current, flow = self.current(), None
+        if has_real_water(spec):                  # waves or a current varying in space: the water as a Flow
+            from uvms.hydro.flow import Flow
+
+            current, flow = None, Flow(**self.flow_parts())
         inputs = spec.inputs
         joint_torques = inputs.torque_schedule()
         control_period = None                     # the vehicle controller runs at its own period
@@ -166,7 +168,7 @@ class Scenario:
         return dict(
             model=self.model, initial_state=self.initial_state(), duration=spec.duration, step=spec.step,
             integrator=spec.integrator, fixed_base=self.fixed_base, joint_torques=joint_torques, joint_motion=motion,
-            body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=self.current(),
+            body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=current, flow=flow,
             controller=self.make_controller(), actuation=actuation, control_period=control_period,
             record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
             metadata=metadata)
