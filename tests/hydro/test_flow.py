@@ -9,6 +9,7 @@ solution is a = a_f.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -405,3 +406,30 @@ def test_flow_and_current_together_are_refused():
     model = uvms.load_model("paper")
     with pytest.raises(UvmsInputError, match="flow"):
         uvms.simulate(model, duration=0.01, current=[0.1, 0, 0], flow=Flow.constant())
+
+
+def test_the_surface_moves_with_the_water_of_the_inputs_side():
+    """Linear kinematic surface condition, w(z = 0) = d eta / dt, between uvms.hydro.waves' elevation and
+    irregular components (the inputs side of issue 27) and this module's velocities (the fluid side)."""
+    from uvms.hydro.waves import Spectrum, elevation, irregular_waves, jonswap
+
+    spectrum = Spectrum(density=lambda w: jonswap(w, 0.5, 4.0), peak=2 * math.pi / 4.0, frequency_range=(0.8, 4.0))
+    sea = irregular_waves(spectrum, components=30, seed=4, water_depth=20.0, spreading=2.0)
+    flow = Flow.constant(waves=sea)
+    d = 1e-5
+    for t, x, y in [(1.0, 0.0, 0.0), (7.3, 4.0, -2.0), (20.0, -9.0, 3.0)]:
+        v, _ = flow.at(t, [x, y, 0.0], "enu")
+        eta_dot = (elevation(sea, t + d, x, y) - elevation(sea, t - d, x, y)) / (2 * d)
+        np.testing.assert_allclose(v[0, 2], eta_dot, rtol=1e-7, atol=1e-10)
+
+
+def test_the_bundled_wave_scenario_runs_in_its_water():
+    from uvms.sim.run import simulate
+    from uvms.sim.scenario import load_scenario
+
+    path = Path(uvms.__file__).parent / "scenarios" / "bluerov2_heavy_alpha5_waves.yaml"
+    options = load_scenario(str(path)).simulate_options()
+    assert isinstance(options["flow"], Flow) and options["current"] is None
+    options["duration"] = 0.2
+    result = simulate(**options)
+    assert result.complete
