@@ -67,18 +67,24 @@ def motion_data(breaks: np.ndarray, coefficients: np.ndarray, rows: int, table=N
 
 
 @block
+def last_at_or_before(times, t, hi):
+    """The last ``k < hi`` with ``times[k] <= t`` (0 when none), by bisection on increasing ``times``."""
+    lo = 0
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if times[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@block
 def motion_at(motion, t):
     """``motion.q, qd, qdd`` at ``t`` [s]: the piece ``k`` with ``breaks[k] <= t < breaks[k+1]`` (the first or
     the last beyond the ends) by bisection, each polynomial by Horner's rule."""
     b = motion.breaks
-    lo = 0
-    hi = b.shape[0] - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if b[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
+    lo = last_at_or_before(b, t, b.shape[0] - 1)
     s = t - b[lo]
     c = motion.coefficients[lo]
     for j in range(c.shape[0]):
@@ -97,15 +103,7 @@ def hold_commands(motion, t, command):
     K = times.shape[0]
     if K == 0:
         return
-    lo = 0
-    hi = K
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if times[mid] <= t + 1e-12:
-            lo = mid
-        else:
-            hi = mid
-    row = motion.commands[lo]
+    row = motion.commands[last_at_or_before(times, t + 1e-12, K)]
     for j in range(row.shape[0]):
         command[j] = row[j]
 
