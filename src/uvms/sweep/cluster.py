@@ -176,7 +176,6 @@ def _local_cluster(layout: list[int], preload: list[str] | None) -> Iterator[Any
                 runner.loop.asyncio_loop.set_exception_handler(lambda loop, context: None)
             if client is not None:
                 close_quietly(client.close, timeout=10)
-                client.status = "closed"  # its loop stops below: when collected it must not wait for it again
             for each in started:
                 close_quietly(each.close, timeout=20)
                 # a start cut short leaves the cluster "closing" for ever: forget it, or distributed's exit
@@ -185,6 +184,10 @@ def _local_cluster(layout: list[int], preload: list[str] | None) -> Iterator[Any
             clean = client is not None and all(str(each.status) == "Status.closed" for each in started)
             if runner is not None:
                 close_quietly(runner.stop)
+            if client is not None:
+                # set once its loop has stopped (a start still running there could set it back to "connecting",
+                # seen in CI): when collected it must not wait for the stopped loop again
+                client.status = "closed"
             _kill_new_children(before, settle=0.0 if clean else 1.0)
 
 
