@@ -138,8 +138,23 @@ def run_plans(plans: Sequence[RunPlan], *, threads: int, progress: Callable[[int
             finished[0] += 1
             if progress is not None:
                 progress(finished[0], len(plans))
+    for k, plan in enumerate(plans):                 # a body left a field that has no outside: one line
+        _check_water(plan, k)
     return tuple(result_of(plan, outcome, run[1](), _time.perf_counter() - seconds)
                  for plan, run, (outcome, seconds) in zip(plans, runs, outcomes))
+
+
+def _check_water(plan: RunPlan, k: int) -> None:
+    """:func:`uvms.hydro.flow.check_status` of trial ``k``'s water, its error naming the trial."""
+    from uvms.errors import UvmsInputError
+    from uvms.hydro.flow import check_status
+
+    if plan.water is None:
+        return
+    try:
+        check_status(plan.water)
+    except UvmsInputError as error:
+        raise UvmsInputError(error.message, error.source, f"trial {k}: {error.path}") from None
 
 
 def _runner(plan):

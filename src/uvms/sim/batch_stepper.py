@@ -191,6 +191,14 @@ class BatchSimulator:
                        for lo, hi in self._blocks]
             for f in futures:
                 f.result()
+        if self.codes.any():                      # a member stopped: one that left a field with no outside says so
+            from uvms.errors import UvmsInputError
+
+            for k in np.flatnonzero(self.codes):
+                try:
+                    self.members[k].check_water()
+                except UvmsInputError as error:
+                    raise UvmsInputError(error.message, error.source, f"member {k}: {error.path}") from None
         return self.x
 
     def state(self, index: int) -> State:

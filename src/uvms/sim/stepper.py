@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from uvms import checks
+from uvms.hydro.flow import check_status
 from uvms.sim.integrate import unpack
 from uvms.sim.options import Inputs, grouped
 from uvms.sim.plan import MAX_STEPS, RunPlan, Timing
@@ -95,6 +96,12 @@ class Simulator:
         """The current state (a copy)."""
         return unpack(self._plan.x, self.model.n_joints)
 
+    def check_water(self) -> None:
+        """Raise the one-line :class:`~uvms.errors.UvmsInputError` of a body that left a gridded current field
+        whose ``outside`` is ``"error"`` (:func:`uvms.hydro.flow.check_status`); nothing otherwise."""
+        if self._plan.water is not None:
+            check_status(self._plan.water)
+
     def reset(self, state: State | None = None) -> State:
         """Back to ``t = 0`` at ``state`` (default: the initial state) with the controller's memory cleared."""
         from uvms.sim.compiled_loop import compiled_run
@@ -110,6 +117,8 @@ class Simulator:
             plan.x[:] = x
         plan.held.command[:] = 0.0
         plan.held.joint_torques[:] = 0.0
+        if plan.water is not None:
+            plan.water.status[0] = 0                # a field left in an earlier episode is forgotten
         run = compiled_run(plan)                   # the controller sized for the horizon's updates
         self._run = run._replace(schedule=run.schedule._replace(n_total=MAX_STEPS))
         from uvms.sim.compiled_loop import _new_loop
@@ -146,6 +155,8 @@ class Simulator:
             self._done, code = advance_loop(self._loop, self._done, min(stop, self._done + STEP_CHUNK))
         if code != 0:
             from uvms.errors import SimulationDiverged
+
+            self.check_water()           # a body left a field that has no outside (its NaN stopped the loop)
 
             what = "is not finite" if code < 0 else "left its sane range"
             from uvms.sim.record import divergence_hint
