@@ -258,3 +258,20 @@ def test_bundled_sea_state_sweep_grids_height_period_and_seed():
     waves = scenario_from_data(sweep.scenario_data(run)).flow_parts()["waves"]
     assert significant_height(waves) == pytest.approx(1.0, rel=0.01)
     assert not np.array_equal(waves.phase, load_scenario("bluerov2_heavy_alpha5_waves").flow_parts()["waves"].phase)
+
+
+def test_a_body_leaving_a_field_with_no_outside_exits_2_naming_the_scenario_field(tmp_path, capsys):
+    """The paper's vehicle starts outside a field box that says ``outside: error``: one line, exit 2, naming
+    the scenario file and its field, and no half-written run folder."""
+    rows = ["x,y,z,t,u,v,w"] + [f"{x},{y},{z},0.0,0.0,0.0,0.0" for z in (50.0, 60.0) for y in (-1.0, 1.0)
+                                for x in (-1.0, 1.0)]
+    (tmp_path / "box.csv").write_text("\n".join(rows) + "\n")
+    data = copy.deepcopy(CASE2)
+    data.update(name="short", duration=0.2, environment={"current": {"field": {"file": "box.csv",
+                                                                                "outside": "error"}}})
+    path = tmp_path / "case.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    assert main(["run", str(path), "-o", str(tmp_path / "out")]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and "case.yaml: environment.current.field.outside: a body left the field's box" in lines[0]
+    assert not (tmp_path / "out" / "result.json").exists()

@@ -86,3 +86,28 @@ def test_replay_figure_animates_the_surface(paper):
         assert len(drawn) == 1 and surfaces[0] in frame.traces
         assert np.allclose(np.array(drawn[0].z), -0.2 * np.cos(k * X - w * rp.times[n]), atol=1e-12)   # ned
     assert not math.isclose(rp.times[0], rp.times[-1])
+
+
+def test_animate_reads_a_runs_field_file_where_the_scenario_was(tmp_path, monkeypatch):
+    """A run's ``scenario.yaml`` copy names its field file relative to the scenario's folder, not to the run
+    folder: ``uvms animate`` (run from elsewhere) finds it there and draws its arrows."""
+    import yaml
+
+    from importlib.resources import files
+
+    data = yaml.safe_load((files("uvms") / "scenarios" / "paper_case2_released.yaml").read_text())
+    data.update(name="field", duration=0.3, environment={"current": {"field": {"file": "flow.csv", "outside": "hold"}}})
+    folder = tmp_path / "case"
+    folder.mkdir()
+    rows = ["x,y,z,t,u,v,w"] + [f"{x},{y},{z},0.0,{0.1 * z},0.0,0.0" for z in (0.0, 5.0) for y in (-3.0, 3.0)
+                                for x in (-3.0, 3.0)]
+    (folder / "flow.csv").write_text("\n".join(rows) + "\n")
+    (folder / "case.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    code, _, err = run_cli(["run", folder / "case.yaml", "-o", tmp_path / "run"])
+    assert code == 0, err
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    code, out, err = run_cli(["animate", tmp_path / "run", "-o", tmp_path / "a.html", "--max-frames", "5"])
+    assert code == 0, err
+    assert "current" in (tmp_path / "a.html").read_text()

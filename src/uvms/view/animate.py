@@ -258,10 +258,11 @@ def model_of_run(directory):
 def scenario_of_run(directory):
     """The scenario of a saved run, from its ``scenario.yaml`` (written by ``uvms run``).
 
-    The copy is the user's scenario verbatim, so a relative ``model:`` path is relative to the folder the
-    scenario file was in when it ran (``metadata.scenario_folder`` of ``result.json``; older runs: the folder
-    of ``metadata.scenario_source``), not to the run folder; the run folder is tried last (a run moved together
-    with its model file)."""
+    The copy is the user's scenario verbatim, so a relative ``model:`` path and data files (a current field, a
+    joint-motion table) are relative to the folder the scenario file was in when it ran
+    (``metadata.scenario_folder`` of ``result.json``; older runs: the folder of ``metadata.scenario_source``),
+    not to the run folder; the run folder is used when that folder no longer holds them (a run moved together
+    with its files)."""
     from uvms.safe_yaml import read_yaml_mapping
     from uvms.sim.result import load_result_summary
     from uvms.sim.scenario import scenario_from_data
@@ -274,16 +275,41 @@ def scenario_of_run(directory):
     data = read_yaml_mapping(path, "scenario fields")
     text = path.read_text(encoding="utf-8")
     metadata = load_result_summary(directory).get("metadata") or {}
-    scenario = scenario_from_data(data, source=str(path), base_dir=_model_folder(data.get("model"), directory,
-                                                                                   metadata),
+    scenario = scenario_from_data(data, source=str(path), base_dir=_scenario_folder(data, directory, metadata),
                                   text=text, default_name=directory.name)
     return scenario
 
 
-def _model_folder(model, directory: Path, metadata: dict) -> Path:
-    """The folder a run's relative ``model:`` path resolves against (see :func:`model_of_run`)."""
-    if not isinstance(model, str) or not model or "\0" in model or Path(model).expanduser().is_absolute():
-        return directory
+def _scenario_folder(data: dict, directory: Path, metadata: dict) -> Path:
+    """The folder a run's relative paths resolve against (see :func:`scenario_of_run`): the scenario's own folder
+    when it still holds the model file (unless the model is a bundled one) and every data file the scenario
+    names (a current field, a joint-motion table), else the run folder."""
+    from uvms.model import bundled_models
+
+    def relative(name) -> bool:
+        return isinstance(name, str) and bool(name) and "\0" not in name and not Path(name).expanduser().is_absolute()
+
+    model, files = data.get("model"), []
+    environment, inputs = data.get("environment"), data.get("inputs")
+    current = environment.get("current") if isinstance(environment, dict) else None
+    if isinstance(current, dict) and isinstance(current.get("field"), dict):
+        files.append(current["field"].get("file"))
+    if isinstance(inputs, dict) and isinstance(inputs.get("joint_motion"), dict):
+        files.append(inputs["joint_motion"].get("file"))
+    files = [name for name in files if relative(name)]
+    bundled = not relative(model) or model in bundled_models()
+    candidates = [metadata.get("scenario_folder"), metadata.get("scenario_source")]
+    folders = [Path(candidates[0])] if isinstance(candidates[0], str) and "\0" not in candidates[0] else []
+    if isinstance(candidates[1], str) and "\0" not in candidates[1]:
+        folders.append(Path(candidates[1]).parent)
+    for folder in folders:
+        try:
+            if (bundled or (folder / model).exists()) and all((folder / name).exists() for name in files) \
+                    and (files or not bundled):
+                return folder
+        except OSError:
+            continue
+    return directory
     candidates = [metadata.get("scenario_folder"), metadata.get("scenario_source")]
     folders = [Path(candidates[0])] if isinstance(candidates[0], str) and "\0" not in candidates[0] else []
     if isinstance(candidates[1], str) and "\0" not in candidates[1]:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -42,6 +43,8 @@ class Scenario:
         source: the scenario file (``None`` when built from data).
         sha256: hex digest of ``text``.
         text: the file's text (copied verbatim next to results).
+        folder: the folder its relative data files (a current field, a joint-motion table) resolve against
+            and must lie in: :attr:`data_folder` (``None``: the scenario file's folder, else the working one).
     """
 
     spec: ScenarioSpec
@@ -49,12 +52,21 @@ class Scenario:
     source: str | None
     sha256: str
     text: str
+    folder: Path | None = None
     _built: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
     """The pieces built so far (module doc): ``"initial_state"`` and, until a run takes it, ``"controller"``."""
 
     @property
     def name(self) -> str:
         return self.spec.name or "scenario"
+
+    @property
+    def data_folder(self) -> Path:
+        """The folder relative data files resolve against (:attr:`folder`, else the scenario file's folder,
+        else the working folder): a saved run's copy of a scenario reads them where the scenario was."""
+        if self.folder is not None:
+            return Path(self.folder)
+        return Path(self.source).parent if self.source is not None else Path.cwd()
 
     @property
     def fixed_base(self) -> bool:
@@ -86,7 +98,7 @@ class Scenario:
         if "flow_parts" not in self._built:
             from uvms.sim.scenario.environment import flow_parts
 
-            self._built["flow_parts"] = flow_parts(self.spec, self.model, self.source)
+            self._built["flow_parts"] = flow_parts(self.spec, self.model, self.source, self.data_folder)
         return self._built["flow_parts"]
 
     def joint_motion(self):
@@ -180,7 +192,12 @@ def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None]
     after each integration segment. The result's summary carries its run health (:mod:`uvms.sim.health`)."""
     from uvms.sim.run import simulate
 
-    return simulate(**scenario.simulate_options(), progress=progress)
+    try:
+        return simulate(**scenario.simulate_options(), progress=progress)
+    except UvmsInputError as exc:
+        if exc.path == "current.field.outside" and exc.source is None:   # the scenario's field, by its name there
+            raise UvmsInputError(exc.message, scenario.source, "environment.current.field.outside") from None
+        raise
 
 
 def plan_scenario(scenario: Scenario) -> RunPlan:
@@ -239,13 +256,12 @@ def build_initial_state(spec: InitialStateSpec, model: Model, source: str | None
 
 def build_joint_motion(spec: JointMotionSpec, scenario: Scenario, source: str | None = None):
     """The :class:`~uvms.sim.joint_motion.JointMotion` of ``inputs.joint_motion`` (a file's path relative to the
-    scenario file, else to the working folder), checked against the model and the duration.
+    scenario's :attr:`~Scenario.data_folder`), checked against the model and the duration.
 
     Raises:
         UvmsInputError: an unreadable or malformed table, a missing column, an unknown or missing joint,
             non-increasing times, a non-finite value, a table shorter than the run (one line naming the field).
     """
-    from pathlib import Path
 
     from uvms.sim.joint_motion import JointMotion
 
@@ -254,8 +270,7 @@ def build_joint_motion(spec: JointMotionSpec, scenario: Scenario, source: str | 
     if spec.file is not None:
         from uvms.input_paths import data_file
 
-        path = data_file(spec.file, Path(source).parent if source is not None else Path.cwd(), source,
-                         f"{field}.file")
+        path = data_file(spec.file, scenario.data_folder, source, f"{field}.file")
     try:
         if spec.file is not None:
             motion = JointMotion.from_csv(path, time=spec.time, columns=dict(spec.columns), **options)

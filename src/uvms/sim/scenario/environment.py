@@ -88,17 +88,20 @@ def build_spatial_current(spec: SpatialCurrentSpec, folder: Path, source: str | 
         raise UvmsInputError(exc.message, source, f"{where}: {exc.path}" if exc.path else where) from None
 
 
-def flow_parts(spec: ScenarioSpec, model: Model, source: str | None = None) -> dict[str, Any]:
+def flow_parts(spec: ScenarioSpec, model: Model, source: str | None = None, folder: Path | None = None
+               ) -> dict[str, Any]:
     """The keyword arguments of :class:`uvms.hydro.flow.Flow` for a scenario on ``model``: the uniform table
     (``inputs.current``, else the model's constant current and fluid acceleration), ``profile``, ``field``,
-    ``waves`` (``None`` when absent) and ``surface``, world frame of the model's convention.
+    ``waves`` (``None`` when absent) and ``surface``, world frame of the model's convention. A field file is
+    read from ``folder`` (default: the folder of ``source``, else the working folder).
 
     Raises:
         UvmsInputError: a bad wave or current input (one line naming the file and the field).
     """
     uniform = uniform_current(spec, model) or CurrentTable.constant(model.current, model.fluid_acceleration)
     env: EnvironmentSpec = spec.environment
-    folder = Path(source).parent if source is not None else Path.cwd()
+    if folder is None:
+        folder = Path(source).parent if source is not None else Path.cwd()
     profile = field = waves = None
     if env.current is not None:
         profile, field = build_spatial_current(env.current, folder, source)

@@ -58,8 +58,9 @@ def load_scenario(name_or_path: str | os.PathLike[str]) -> Scenario:
 
 def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | os.PathLike[str] | None = None,
                        text: str | None = None, default_name: str = "scenario") -> Scenario:
-    """Validate scenario ``data`` (the parsed YAML mapping); relative model paths resolve against ``base_dir``
-    (default: the working directory). ``text`` (default: a YAML dump of ``data``) is hashed and kept."""
+    """Validate scenario ``data`` (the parsed YAML mapping); relative model paths and data files (a current
+    field, a joint-motion table) resolve against ``base_dir`` (default: the working directory for the model,
+    the folder of ``source`` for data files). ``text`` (default: a YAML dump of ``data``) is hashed and kept."""
     import yaml
 
     try:
@@ -73,7 +74,7 @@ def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | 
     model = _resolve_model(spec, source, Path(base_dir) if base_dir is not None else Path.cwd())
     _check_against_model(spec, model, source)
     scenario = Scenario(spec=spec, model=model, source=source, sha256=hashlib.sha256(text.encode()).hexdigest(),
-                        text=text)
+                        text=text, folder=Path(base_dir) if base_dir is not None else None)
     scenario.prebuild()                # no rest attitude, unknown controller or bad parameters: fail now
     return scenario
 
