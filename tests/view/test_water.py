@@ -111,3 +111,20 @@ def test_animate_reads_a_runs_field_file_where_the_scenario_was(tmp_path, monkey
     code, out, err = run_cli(["animate", tmp_path / "run", "-o", tmp_path / "a.html", "--max-frames", "5"])
     assert code == 0, err
     assert "current" in (tmp_path / "a.html").read_text()
+
+
+def test_a_gif_of_a_wave_run_draws_the_surface_of_each_frame(paper, tmp_path, monkeypatch):
+    """The .gif/.mp4 writer draws frame k's water (surface and arrows at frame k's time) on frame k, and its
+    axes hold the drawn surface."""
+    from uvms.view import png
+    from uvms.view.animate import replay, write_video
+
+    rp = replay(synthetic_result(paper), paper, max_frames=4, flow=parts(waves=regular_waves(0.4, 2.0)))
+    drawn, draw = [], png.draw_water
+    monkeypatch.setattr(png, "draw_water", lambda ax, water, k=0: (drawn.append((water, k)), draw(ax, water, k)))
+    path = write_video(rp, tmp_path / "w.gif")
+    assert path.read_bytes()[:6] in (b"GIF87a", b"GIF89a")
+    assert [k for _, k in drawn] == list(range(len(rp.snaps))) and all(w is rp.water for w, _ in drawn)
+    lo, hi = rp.ranges()[:, 0], rp.ranges()[:, 1]
+    corners = rp.water.points()
+    assert np.all(corners >= lo - 1e-9) and np.all(corners <= hi + 1e-9)

@@ -57,7 +57,8 @@ class Replay:
 
     def ranges(self) -> np.ndarray:
         return equal_ranges(np.vstack([s.points() for s in self.snaps]
-                                      + [1.15 * self.scene.world_axis_length * np.eye(3)]))
+                                      + [1.15 * self.scene.world_axis_length * np.eye(3)]
+                                      + ([self.water.points()] if self.water is not None else [])))
 
 
 def frame_samples(time: np.ndarray, *, fps: float, speed: float, max_frames: int) -> tuple[np.ndarray, float]:
@@ -223,7 +224,7 @@ def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -
         writer = PillowWriter(fps=rp.fps)
     else:
         raise UvmsInputError(f"expected a {' or '.join(VIDEO_SUFFIXES)} file name", str(path), option)
-    ranges = rp.ranges()
+    ranges, water = rp.ranges(), rp.water
     fig, ax = png.new_figure(size=(7.2, 6.4))
     title = fitted_title(fig, rp.title)
     with naming(path):
@@ -235,6 +236,8 @@ def write_video(rp: Replay, path, *, option: str = "--output", dpi: int = 100) -
                 for k, snap in enumerate(rp.snaps):
                     ax.cla()
                     png.draw_world(ax, rp.scene)
+                    if water is not None:          # the free surface and flow arrows at this frame's time
+                        png.draw_water(ax, water, k)
                     png.draw_target(ax, rp.scene, rp.target)
                     png.draw_trails(ax, rp.vehicle_path[: k + 1], rp.ee_path[: k + 1])
                     png.draw_snapshot(ax, rp.scene, snap)
