@@ -104,6 +104,10 @@ SIX_AXIS_CASES: tuple[Case, ...] = (
 """The comparison on any scenario other than the paper's: the paper's controller, Newton-Euler feed-forward,
 the vehicle-only model, PID and LQR, each on the scenario's axes."""
 
+WAVE_FEED_FORWARD_CASE = Case("smc-ab (wave feed-forward)", "smc-ab", {"wave_feed_forward": True})
+"""``smc-ab`` whose model sees the run's water (:mod:`uvms.control.smc_ab`), compared on scenarios with waves or a
+current varying in space (``environment:``), next to ``smc-ab`` without it."""
+
 SLIDING_MODE = ("smc-ab", "smc-ne", "smc-vehicle")
 
 
@@ -149,8 +153,16 @@ def scenario_axes(scenario) -> tuple[str, ...]:
 
 
 def default_cases(scenario) -> tuple[Case, ...]:
-    """The cases compared on ``scenario``: :data:`DEFAULT_CASES` on the paper's, else :data:`SIX_AXIS_CASES`."""
-    return DEFAULT_CASES if is_paper(scenario) else SIX_AXIS_CASES
+    """The cases compared on ``scenario``: :data:`DEFAULT_CASES` on the paper's, else :data:`SIX_AXIS_CASES`,
+    with :data:`WAVE_FEED_FORWARD_CASE` after ``smc-ab`` when the scenario has an ``environment:`` (waves or a
+    current varying in space)."""
+    from uvms.sim.scenario.environment import has_real_water
+
+    if is_paper(scenario):
+        return DEFAULT_CASES
+    if has_real_water(load(scenario).spec):
+        return SIX_AXIS_CASES[:1] + (WAVE_FEED_FORWARD_CASE,) + SIX_AXIS_CASES[1:]
+    return SIX_AXIS_CASES
 
 
 def axis_series(result, *, bandwidth: float = PAPER_BANDWIDTH, surface: str = "body_velocity",
