@@ -9,7 +9,9 @@ torques, 10 s, RK4 at 1 ms, controller updated every 10 ms) the file's joint tor
 any number of joints, the other joints none (:func:`scenario_torques`), and the actuation is ideal (the
 commanded body wrench is applied as is, so that the comparison isolates the control law) unless ``actuation``
 is given. Any other scenario runs its own inputs (joint torques or trajectory, current) and its own actuators
-(e.g. the model's thrusters) unless ``actuation`` is given.
+(e.g. the model's thrusters) unless ``actuation`` is given; a scenario with waves or a current varying in space
+(``environment:``) also runs ``smc-ab`` with its wave feed-forward (:data:`WAVE_FEED_FORWARD_CASE`,
+:mod:`uvms.control.smc_ab`).
 
 The metrics are named metrics of :mod:`uvms.sim.metrics`, computed from the integrated states the same way for
 every controller, for the axes held (:func:`metrics`). On the paper's axes (surge, sway, yaw):
