@@ -4,9 +4,10 @@ Without ``--scenario`` it runs :data:`uvms.control.compare.DEFAULT_CASES` (``smc
 and a noisy IMU, ``smc-vehicle``, ``pid``; ``--lqr`` adds the ``lqr`` baseline) on the paper's case 3 (the bundled scenario
 ``paper_case3_controlled``, with ideal actuation) and prints peak body-frame errors, peak ``|s|`` per axis, RMS
 commands and a chatter count. ``--scenario NAME_OR_FILE`` runs
-:data:`~uvms.control.compare.SIX_AXIS_CASES` on any scenario, each controller holding the axes the scenario's
-controller holds, with the scenario's actuators, and prints the metrics of those axes
-(:func:`uvms.control.compare.metrics`). ``--json FILE`` saves the table.
+:data:`~uvms.control.compare.SIX_AXIS_CASES` on any scenario (plus ``smc-ab`` with wave feed-forward,
+:data:`~uvms.control.compare.WAVE_FEED_FORWARD_CASE`, on a scenario with an ``environment:`` section), each
+controller holding the axes the scenario's controller holds, with the scenario's actuators, and prints the metrics
+of those axes (:func:`uvms.control.compare.metrics`). ``--json FILE`` saves the table.
 """
 
 from __future__ import annotations

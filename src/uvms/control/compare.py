@@ -9,7 +9,9 @@ torques, 10 s, RK4 at 1 ms, controller updated every 10 ms) the file's joint tor
 any number of joints, the other joints none (:func:`scenario_torques`), and the actuation is ideal (the
 commanded body wrench is applied as is, so that the comparison isolates the control law) unless ``actuation``
 is given. Any other scenario runs its own inputs (joint torques or trajectory, current) and its own actuators
-(e.g. the model's thrusters) unless ``actuation`` is given.
+(e.g. the model's thrusters) unless ``actuation`` is given; a scenario with waves or a current varying in space
+(``environment:``) also runs ``smc-ab`` with its wave feed-forward (:data:`WAVE_FEED_FORWARD_CASE`,
+:mod:`uvms.control.smc_ab`).
 
 The metrics are named metrics of :mod:`uvms.sim.metrics`, computed from the integrated states the same way for
 every controller, for the axes held (:func:`metrics`). On the paper's axes (surge, sway, yaw):
@@ -104,6 +106,10 @@ SIX_AXIS_CASES: tuple[Case, ...] = (
 """The comparison on any scenario other than the paper's: the paper's controller, Newton-Euler feed-forward,
 the vehicle-only model, PID and LQR, each on the scenario's axes."""
 
+WAVE_FEED_FORWARD_CASE = Case("smc-ab (wave feed-forward)", "smc-ab", {"wave_feed_forward": True})
+"""``smc-ab`` whose model sees the run's water (:mod:`uvms.control.smc_ab`), compared on scenarios with waves or a
+current varying in space (``environment:``), next to ``smc-ab`` without it."""
+
 SLIDING_MODE = ("smc-ab", "smc-ne", "smc-vehicle")
 
 
@@ -149,8 +155,16 @@ def scenario_axes(scenario) -> tuple[str, ...]:
 
 
 def default_cases(scenario) -> tuple[Case, ...]:
-    """The cases compared on ``scenario``: :data:`DEFAULT_CASES` on the paper's, else :data:`SIX_AXIS_CASES`."""
-    return DEFAULT_CASES if is_paper(scenario) else SIX_AXIS_CASES
+    """The cases compared on ``scenario``: :data:`DEFAULT_CASES` on the paper's, else :data:`SIX_AXIS_CASES`,
+    with :data:`WAVE_FEED_FORWARD_CASE` after ``smc-ab`` when the scenario has an ``environment:`` (waves or a
+    current varying in space)."""
+    from uvms.sim.scenario.environment import has_real_water
+
+    if is_paper(scenario):
+        return DEFAULT_CASES
+    if has_real_water(load(scenario).spec):
+        return SIX_AXIS_CASES[:1] + (WAVE_FEED_FORWARD_CASE,) + SIX_AXIS_CASES[1:]
+    return SIX_AXIS_CASES
 
 
 def axis_series(result, *, bandwidth: float = PAPER_BANDWIDTH, surface: str = "body_velocity",

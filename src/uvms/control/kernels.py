@@ -72,7 +72,8 @@ class ControllerData(NamedTuple):
     system: ModelData           # controller model of the whole system (AB, NE); a dummy otherwise
     vehicle: ModelData          # controller model of the vehicle alone (VEHICLE, NE); a dummy otherwise
     flow: FlowData              # the controller model's water: a uniform current (``current``,
-                                #   ``fluid_acceleration`` options of controller_data)
+                                #   ``fluid_acceleration`` options of controller_data), or the run's own water
+                                #   (``flow`` option: smc-ab's wave feed-forward), read at the update's time
     imu: ImuData                # the simulated IMU (NE; a noise-free placeholder otherwise)
     R: np.ndarray               # (3, 3) scratch: body-to-world rotation
     kin: np.ndarray             # (N_KIN_ROWS, 6) scratch: axis kinematics
@@ -132,6 +133,7 @@ def controller_data(*, kind: int, n_joints: int, period: float, axes, gains: np.
                 imu=imu_data(ImuParameters(), float(period), 0), signals=np.zeros(n_signals), **_state_scratch(n))
     current = options.pop("current", np.zeros(3))
     fluid_acceleration = options.pop("fluid_acceleration", np.zeros(3))
+    flow = options.pop("flow", None)          # a FlowData: the water itself (then current, fluid_acceleration unused)
     for key, value in options.items():
         if key not in data:
             raise TypeError(f"unknown ControllerData field {key!r}")
@@ -139,7 +141,7 @@ def controller_data(*, kind: int, n_joints: int, period: float, axes, gains: np.
     for key in ("system", "vehicle"):
         if data[key] is None:
             data[key] = empty_model_data()
-    data["flow"] = fluid_table([0.0], [current], [fluid_acceleration])
+    data["flow"] = flow if flow is not None else fluid_table([0.0], [current], [fluid_acceleration])
     return ControllerData(**data)
 
 
@@ -204,14 +206,15 @@ def arm_reaction(ctrl, x, tau, a0, out):
 
 
 @block
-def _predict(ctrl, x, tau, nu_dot_true):
+def _predict(ctrl, t, x, tau, nu_dot_true):
     """The controller model's ``nu_dot`` at ``f_0 = 0`` into ``ctrl.nu_dot``; returns the 6x6 inertia mapping
-    a body wrench to ``nu_dot`` in that model (for ``b_source = "model"``)."""
+    a body wrench to ``nu_dot`` in that model (for ``b_source = "model"``). ``AB`` reads its water at the
+    update's time ``t`` (a one-row table, the default, is the same at every time)."""
     n = ctrl.n_joints
     nu = x[NU:JOINTS]
     if ctrl.predictor == AB:
         forward_into(ctrl.system, ctrl.R, x[POSITION:QUATERNION], nu, x[JOINTS:JOINTS + n],
-                     x[JOINTS + n:JOINTS + 2 * n], tau, ctrl.zero6, ctrl.zero6, ctrl.flow, 0.0, False, ctrl.nu_dot,
+                     x[JOINTS + n:JOINTS + 2 * n], tau, ctrl.zero6, ctrl.zero6, ctrl.flow, t, False, ctrl.nu_dot,
                      ctrl.qdd)
         return ctrl.system.work.IA[0]
     wrench = ctrl.zero6
@@ -237,8 +240,8 @@ def _inverse_diagonal(A, L, column, out):
 
 
 @block
-def _sliding_mode(ctrl, x, tau, nu_dot_true, wrench):
-    inertia = _predict(ctrl, x, tau, nu_dot_true)
+def _sliding_mode(ctrl, t, x, tau, nu_dot_true, wrench):
+    inertia = _predict(ctrl, t, x, tau, nu_dot_true)
     need_model = ctrl.b_from_model
     for a in ctrl.axes:
         if ctrl.gains[a, B_MODEL] > 0.0:
@@ -323,7 +326,7 @@ def controller_update(ctrl, t, x, tau, nu_dot_true, wrench):
     _set_point(ctrl, t, x)
     sk.pose_kinematics_into(x[QUATERNION:NU], x[POSITION:QUATERNION], x[NU:JOINTS], ctrl.desired, ctrl.R, ctrl.kin)
     if ctrl.kind == SLIDING:
-        _sliding_mode(ctrl, x, tau, nu_dot_true, wrench)
+        _sliding_mode(ctrl, t, x, tau, nu_dot_true, wrench)
     else:
         _pid(ctrl, wrench)
     ctrl.memory[COUNT] += 1

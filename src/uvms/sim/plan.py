@@ -258,6 +258,9 @@ class RunPlan:
                 if inputs.joint_motion.joints is not None else slice(None)
             state = state.replace(q=q0[order], qd=qd0[order])
         water = current_table(model, inputs.current, timing, inputs.flow)
+        known_water = getattr(controller, "set_known_water", None)
+        if known_water is not None:              # a controller that can see the run's water (smc-ab's feed-forward)
+            known_water(water)
         plant, _ = build_plant(model, thrusters=actuation.thrusters, fluid=water, fixed_base=inputs.fixed_base,
                                bounds=recording.bounds)
         held = held_inputs(model.n_joints, len(actuation.thrusters))
