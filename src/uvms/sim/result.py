@@ -47,6 +47,8 @@ class Result:
         complete: False if the run stopped early (divergence); ``message`` says why.
         metadata: run metadata (versions, scenario hash, wall time, integrator, step; the model's
             ``joint_names`` and ``joint_types``, which name the joint columns: :mod:`uvms.sim.columns`).
+        sensors: the simulated sensors' samples, name -> :class:`uvms.sensors.SensorRecord` (each at its own
+            rate: its own ``time`` and columns; ``docs/sensors.md``).
     """
 
     time: np.ndarray
@@ -58,6 +60,7 @@ class Result:
     complete: bool = True
     message: str = ""
     metadata: dict[str, Any] = field(default_factory=dict)
+    sensors: dict[str, Any] = field(default_factory=dict)
 
     def _slice(self, name: str) -> np.ndarray:
         from uvms.state import actuator_count, layout
