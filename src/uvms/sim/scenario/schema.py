@@ -42,6 +42,7 @@ from uvms.schema_base import (
 )
 from uvms.sim.health import HealthLimits
 from uvms.sim.inputs import TorqueSchedule
+from uvms.sim.scenario.sensor_specs import SensorsSpec
 
 INTEGRATORS = ("rk4", "DOP853", "LSODA", "Radau", "RK45")
 """``rk4``: compiled fixed-step RK4; the others: ``scipy.integrate.solve_ivp`` methods."""
@@ -500,6 +501,7 @@ class ScenarioSpec(Spec):
     actuators: str = "ideal"                      # thruster layout (uvms.thrusters.layouts)
     outputs: OutputsSpec = OutputsSpec()
     health: HealthSpec = HealthSpec()
+    sensors: SensorsSpec = {}                     # name -> simulated sensor (docs/sensors.md)
 
     @field_validator("actuators")
     @classmethod
