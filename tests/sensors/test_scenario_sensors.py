@@ -52,14 +52,14 @@ def test_a_scenarios_sensors_are_run_saved_and_read_back(tmp_path):
 
 
 @pytest.mark.parametrize("sensors, field", [
-    ({"imu": {"kind": "imu", "rate": -5}}, "sensors.imu"),
-    ({"imu": {"kind": "gps", "rate": 5}}, "sensors.imu"),
+    ({"imu": {"kind": "imu", "rate": -5}}, "sensors.imu.rate"),
+    ({"imu": {"kind": "gps", "rate": 5}}, "sensors.imu.kind"),
     ({"imu": {"kind": "imu", "rate": 5, "mount": {"body": "link9"}}}, "sensors.imu.mount.body"),
     ({"imu": {"kind": "imu", "rate": 5, "mount": {"body": "link1"}}}, "sensors.imu.mount.body"),
     ({"arm": {"kind": "encoders", "rate": 5, "joints": ["elbow9"]}}, "sensors.arm.joints[0]"),
     ({"dvl": {"kind": "dvl", "rate": 8}}, "sensors.dvl.rate"),
-    ({"dvl": {"kind": "dvl", "rate": 5, "dropout": 1.5}}, "sensors.dvl"),
-    ({"imu": {"kind": "imu", "rate": 5, "gyro": {"white": -1}}}, "sensors.imu"),
+    ({"dvl": {"kind": "dvl", "rate": 5, "dropout": 1.5}}, "sensors.dvl.dropout"),
+    ({"imu": {"kind": "imu", "rate": 5, "gyro": {"white": -1}}}, "sensors.imu.gyro.white"),
     ({"imu": {"kind": "imu", "rate": 5, "colour": "red"}}, "sensors.imu"),
 ])
 def test_bad_sensor_entries_are_one_line_and_exit_2(tmp_path, sensors, field):

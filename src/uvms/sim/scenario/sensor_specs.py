@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal, Union
 
-from pydantic import BeforeValidator, Field, Strict, model_validator
+from pydantic import BeforeValidator, Discriminator, Field, Strict, Tag, model_validator
 
 from uvms.errors import UvmsInputError, show
 from uvms.schema_base import ZERO3, NonNegative, Positive, Spec, Vec3, fail, finite_number, numbers
@@ -82,7 +82,25 @@ class EncodersSpec(_Sensor):
     resolution: Positive | None = None            # prismatic joints [m]; None: exact
 
 
-SensorSpec = Annotated[Union[ImuSpec, PressureSpec, DvlSpec, EncodersSpec], Field(discriminator="kind")]
+KIND_TAGS = ("kind=imu", "kind=pressure", "kind=dvl", "kind=encoders")
+"""Tags of the sensor union (left out of error paths: no sensor name contains ``=``)."""
+
+
+def _kind(value) -> str | None:
+    kind = value.get("kind") if isinstance(value, dict) else getattr(value, "kind", None)
+    return f"kind={kind}" if f"kind={kind}" in KIND_TAGS else None
+
+
+def _known_kind(value):
+    if isinstance(value, dict) and _kind(value) is None:
+        raise fail(f"expected a kind of {', '.join(repr(t[5:]) for t in KIND_TAGS)}, found {show(value.get('kind'))}",
+                   "kind")
+    return value
+
+
+SensorSpec = Annotated[Union[Annotated[ImuSpec, Tag("kind=imu")], Annotated[PressureSpec, Tag("kind=pressure")],
+                             Annotated[DvlSpec, Tag("kind=dvl")], Annotated[EncodersSpec, Tag("kind=encoders")]],
+                       Discriminator(_kind), BeforeValidator(_known_kind)]
 SensorsSpec = dict[Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")], SensorSpec]
 """``sensors:`` name -> sensor (a name is a ROS-friendly word: it becomes the frame id and the topic)."""
 
