@@ -93,7 +93,7 @@ FLOORS = (
     ("math", ("uvms.spatial", "uvms.rotations")),
     ("ground", ("uvms.jit", "uvms.state", "uvms.errors", "uvms.checks", "uvms._cache", "uvms.output", "uvms.safe_json",
                 "uvms.safe_yaml", "uvms.schema_base", "uvms.bundled", "uvms._compile_watch", "uvms.frames", "uvms.input_paths", "uvms")),
-    ("physics", ("uvms.hydro", "uvms.thrusters", "uvms.kinematics")),
+    ("physics", ("uvms.hydro", "uvms.thrusters", "uvms.kinematics", "uvms.sensors")),
     ("model", ("uvms.model",)),
     ("dynamics", ("uvms.dynamics",)),
     ("control", ("uvms.control",)),

@@ -85,12 +85,15 @@ class Recording:
         metadata: extra entries for the result's metadata.
         bounds: sane-state limits (|position| [m], |nu|, |qd|, |actuator|); beyond them the run stops as
             diverged.
+        sensors: simulated sensors (:mod:`uvms.sensors` objects) sampled on the recorded rows, each at its own
+            rate (:mod:`uvms.sim.sensing`); their samples are the result's ``sensors``.
     """
 
     period: float | None = None
     progress: Callable[[float, float], None] | None = None
     metadata: dict[str, Any] | None = None
     bounds: np.ndarray = field(default_factory=lambda: DEFAULT_BOUNDS.copy())
+    sensors: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -115,7 +118,8 @@ class Adaptive:
 
 
 _INPUT_KEYS = {f.name for f in fields(Inputs)}
-_RECORDING_KEYS = {"record_period": "period", "progress": "progress", "metadata": "metadata", "bounds": "bounds"}
+_RECORDING_KEYS = {"record_period": "period", "progress": "progress", "metadata": "metadata", "bounds": "bounds",
+                   "sensors": "sensors"}
 
 
 def grouped(inputs: Inputs | None, integrator, recording: Recording | None,

@@ -145,9 +145,11 @@ def checked_recording(recording: Recording) -> Recording:
     checks.callable_or_none(recording.progress, "progress", "progress(t, duration)")
     if recording.metadata is not None and not isinstance(recording.metadata, dict):
         raise checks.fail("metadata", f"expected None or a dict, got {checks.show(recording.metadata)}")
+    from uvms.sim.sensing import checked_sensors
+
     return Recording(period=checks.optional_number(recording.period, "record_period", positive=True, unit="s"),
                      progress=recording.progress, metadata=recording.metadata,
-                     bounds=np.array(limits, dtype=np.float64))
+                     bounds=np.array(limits, dtype=np.float64), sensors=checked_sensors(recording.sensors))
 
 
 def checked_control(controller, actuation) -> Actuation:
@@ -252,6 +254,9 @@ class RunPlan:
         every = record_every(timing, recording)
         check_record_size(timing.n_total // every + 2, JOINTS + 2 * model.n_joints + n_act)
         motion = motion_of(model, inputs, (controller, actuation), integrator, timing, timing.n_total // every + 2)
+        if motion is not None and recording.sensors:
+            raise checks.fail("sensors", "expected no simulated sensors with a prescribed joint_motion (their "
+                                         "truth needs the free dynamics' acceleration)")
         if motion is not None:                   # the joints start on the motion
             q0, qd0, _ = inputs.joint_motion(0.0)
             order = [inputs.joint_motion.joints.index(j) for j in model.joint_names] \
@@ -302,9 +307,11 @@ class RunPlan:
 
 def record_every(timing: Timing, recording: Recording) -> int:
     """Steps between two recorded rows: the recording period's, else enough for at most :data:`MAX_SAMPLES` rows."""
-    if recording.period is not None:
-        return timing.steps_of(recording.period)
-    return max(1, int(np.ceil(timing.n_total / MAX_SAMPLES)))
+    from uvms.sim.sensing import record_every_for
+
+    every = timing.steps_of(recording.period) if recording.period is not None else None
+    every = record_every_for(recording.sensors, timing.h, every)
+    return every if every is not None else max(1, int(np.ceil(timing.n_total / MAX_SAMPLES)))
 
 
 def events(n_total: int, periods: tuple[int, int], breakpoints: list[int]):

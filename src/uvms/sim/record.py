@@ -138,9 +138,15 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
             "joint_names": list(plan.model.joint_names), "joint_types": list(plan.model.joint_type), **versions(),
             **actuation_metadata(plan), **set_point_metadata(plan), **(plan.recording.metadata or {})}
     report_joint_limits(plan.model, out_t, out_x, out_tau, meta)
+    from uvms.sim.sensing import sensor_records
+
+    sensors = sensor_records(plan, out_t, out_x, out_tau, signals)
+    if sensors:
+        meta["sensors"] = {name: {"kind": r.kind, "rate_hz": float(s.rate), "frame_id": r.frame_id}
+                           for (name, r), s in zip(sensors.items(), plan.recording.sensors)}
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
                   signals=signals, complete=complete,
-                  message="" if complete else divergence_message(plan, outcome), metadata=meta)
+                  message="" if complete else divergence_message(plan, outcome), metadata=meta, sensors=sensors)
 
 
 def report_joint_limits(model, t, x, tau, meta: dict) -> None:

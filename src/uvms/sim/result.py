@@ -47,6 +47,8 @@ class Result:
         complete: False if the run stopped early (divergence); ``message`` says why.
         metadata: run metadata (versions, scenario hash, wall time, integrator, step; the model's
             ``joint_names`` and ``joint_types``, which name the joint columns: :mod:`uvms.sim.columns`).
+        sensors: the simulated sensors' samples, name -> :class:`uvms.sensors.SensorRecord` (each at its own
+            rate: its own ``time`` and columns; ``docs/sensors.md``).
     """
 
     time: np.ndarray
@@ -58,6 +60,7 @@ class Result:
     complete: bool = True
     message: str = ""
     metadata: dict[str, Any] = field(default_factory=dict)
+    sensors: dict[str, Any] = field(default_factory=dict)
 
     def _slice(self, name: str) -> np.ndarray:
         from uvms.state import actuator_count, layout
@@ -229,7 +232,8 @@ class Result:
         return run_health(self, **options)
 
     def save(self, directory, *, name: str = "result") -> Path:
-        """Write ``<name>.csv`` and ``<name>.json`` (summary) into ``directory``, each atomically."""
+        """Write ``<name>.csv`` and ``<name>.json`` (summary) into ``directory``, each atomically, and each
+        simulated sensor's table ``<name>.<sensor>.csv`` (``t_s`` and its columns, at its own rate)."""
         directory = Path(directory)
         cols = self.columns()
         header = ",".join(cols)
@@ -240,6 +244,12 @@ class Result:
         np.savetxt(buf, data, delimiter=",", header=header, comments="", fmt="%.10g")
         atomic_write_text(directory / f"{name}.csv", buf.getvalue())
         atomic_write_text(directory / f"{name}.json", json.dumps(self.summary(), indent=2, default=_json_default))
+        for sensor, record in self.sensors.items():
+            table = np.column_stack([record.time, *record.columns.values()])
+            buf = io.StringIO()
+            np.savetxt(buf, table, delimiter=",", header=",".join(["t_s", *record.columns]), comments="",
+                       fmt="%.17g")
+            atomic_write_text(directory / f"{name}.{sensor}.csv", buf.getvalue())
         return directory
 
     # -- reading back, looking at it (notebooks)
@@ -291,6 +301,21 @@ class Result:
             signals={c: table[c].to_numpy(dtype=float) for c in table.columns if c not in known},
             complete=bool(summary.get("complete", True)), message=str(summary.get("message") or ""),
             metadata=dict(summary.get("metadata") or {}))
+        sensors = result.metadata.get("sensors") or {}
+        if isinstance(sensors, dict) and sensors:
+            from uvms.sensors import SensorRecord
+
+            records = {}
+            for sensor, about in sensors.items():
+                if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", str(sensor)) or not isinstance(about, dict):
+                    raise UvmsInputError(f"expected sensor names of letters, digits and '_' with their kind, found "
+                                         f"{str(sensor)[:40]!r}", str(Path(directory) / f"{name}.json"),
+                                         "metadata.sensors")
+                t = load_sensor_table(Path(directory) / f"{name}.{sensor}.csv")
+                records[sensor] = SensorRecord(str(sensor), str(about.get("kind", "")), str(about.get("frame_id", sensor)),
+                                               t["t_s"].to_numpy(dtype=float),
+                                               {c: t[c].to_numpy(dtype=float) for c in t.columns if c != "t_s"})
+            object.__setattr__(result, "sensors", records)
         object.__setattr__(result, "_directory", Path(directory))   # where it came from (its scenario.yaml)
         return result
 
@@ -416,6 +441,24 @@ def check_times(time, source: str | None = None) -> None:
                              f"in sample {k + 1}", source, "t_s")
     if time.size and not math.isfinite(float(time[-1]) - float(time[0])):   # Python floats: inf, no warning
         raise UvmsInputError(f"expected a finite time span, found {time[0]:.6g}..{time[-1]:.6g} s", source, "t_s")
+
+
+def load_sensor_table(path: Path):
+    """A saved sensor's table (``t_s`` and its columns, :meth:`Result.save`) as a DataFrame of numbers, checked
+    as a result table is (size, columns, numbers, times): a one-line :class:`~uvms.errors.UvmsInputError`."""
+    import pandas as pd
+
+    if not path.is_file():
+        raise UvmsInputError("no such sensor table (the run's metadata lists it)", str(path))
+    _check_table_file(path)
+    try:
+        table = pd.read_csv(path)
+    except (ValueError, pd.errors.ParserError) as exc:
+        raise UvmsInputError(f"not a sensor table: {' '.join(str(exc).split())[:120]}", str(path)) from None
+    if "t_s" not in table.columns or any(table[c].dtype.kind not in "fiu" for c in table.columns):
+        raise UvmsInputError("not a sensor table: expected a t_s column and numbers in every column", str(path))
+    check_times(table["t_s"].to_numpy(dtype=float), str(path))
+    return table
 
 
 def check_result_files(directory, name: str = "result") -> None:

@@ -183,7 +183,13 @@ class Scenario:
             body_wrench=np.array(inputs.body_wrench), ee_wrench=np.array(inputs.ee_wrench), current=current, flow=flow,
             controller=self.make_controller(), actuation=actuation, control_period=control_period,
             record_period=spec.outputs.record_period, rtol=spec.tolerances.rtol, atol=spec.tolerances.atol,
-            metadata=metadata)
+            metadata=metadata, sensors=self.sensors())
+
+    def sensors(self) -> tuple:
+        """The file's ``sensors:`` as :mod:`uvms.sensors` objects (:func:`~uvms.sim.scenario.sensor_specs.build_sensors`)."""
+        from uvms.sim.scenario.sensor_specs import build_sensors
+
+        return build_sensors(self.spec.sensors, self.model, self.source)
 
 
 def run_scenario(scenario: Scenario, *, progress: Callable[[float, float], None] | None = None) -> Result:

@@ -73,6 +73,7 @@ def scenario_from_data(data: Any, *, source: str | None = None, base_dir: str | 
         text = yaml.safe_dump(data, sort_keys=False)
     model = _resolve_model(spec, source, Path(base_dir) if base_dir is not None else Path.cwd())
     _check_against_model(spec, model, source)
+    _check_sensors(spec, model, source)
     scenario = Scenario(spec=spec, model=model, source=source, sha256=hashlib.sha256(text.encode()).hexdigest(),
                         text=text, folder=Path(base_dir) if base_dir is not None else None)
     scenario.prebuild()                # no rest attitude, unknown controller or bad parameters: fail now
@@ -110,3 +111,20 @@ def _check_against_model(spec: ScenarioSpec, model: Model, source: str | None) -
         if values is not None and len(values) != n:
             raise UvmsInputError(f"expected {n} values (one per joint of model {model.name!r}), found "
                                  f"{len(values)}: {show(list(values))}", source, path)
+
+
+def _check_sensors(spec: ScenarioSpec, model: Model, source: str | None) -> None:
+    """The ``sensors:`` against the model (bodies, joints) and the step and record grid (each period a whole
+    multiple of the record period: :func:`uvms.sim.sensing.record_every_for`)."""
+    from uvms.sim.scenario.sensor_specs import build_sensors
+    from uvms.sim.sensing import record_every_for
+
+    sensors = build_sensors(spec.sensors, model, source)
+    record = spec.outputs.record_period
+    try:
+        record_every_for(sensors, spec.step, None if record is None else max(1, int(round(record / spec.step))))
+    except UvmsInputError as exc:
+        raise UvmsInputError(exc.message, source, exc.path) from None
+    if sensors and spec.inputs.joint_motion is not None:
+        raise UvmsInputError("expected no simulated sensors with a prescribed joint_motion (their truth needs the "
+                             "free dynamics' acceleration)", source, "sensors")

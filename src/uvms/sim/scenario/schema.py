@@ -42,11 +42,12 @@ from uvms.schema_base import (
 )
 from uvms.sim.health import HealthLimits
 from uvms.sim.inputs import TorqueSchedule
+from uvms.sim.scenario.sensor_specs import KIND_TAGS, SensorsSpec
 
 INTEGRATORS = ("rk4", "DOP853", "LSODA", "Radau", "RK45")
 """``rk4``: compiled fixed-step RK4; the others: ``scipy.integrate.solve_ivp`` methods."""
 
-UNION_TAGS = ("list", "mapping")
+UNION_TAGS = ("list", "mapping", *KIND_TAGS)
 """Tags of this schema's list-or-mapping unions; left out of the field paths of error messages."""
 
 
@@ -500,6 +501,7 @@ class ScenarioSpec(Spec):
     actuators: str = "ideal"                      # thruster layout (uvms.thrusters.layouts)
     outputs: OutputsSpec = OutputsSpec()
     health: HealthSpec = HealthSpec()
+    sensors: SensorsSpec = {}                     # name -> simulated sensor (docs/sensors.md)
 
     @field_validator("actuators")
     @classmethod
