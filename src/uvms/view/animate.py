@@ -313,14 +313,3 @@ def _scenario_folder(data: dict, directory: Path, metadata: dict) -> Path:
         except OSError:
             continue
     return directory
-    candidates = [metadata.get("scenario_folder"), metadata.get("scenario_source")]
-    folders = [Path(candidates[0])] if isinstance(candidates[0], str) and "\0" not in candidates[0] else []
-    if isinstance(candidates[1], str) and "\0" not in candidates[1]:
-        folders.append(Path(candidates[1]).parent)
-    for folder in folders:
-        try:
-            if (folder / model).exists():
-                return folder
-        except OSError:
-            continue
-    return directory
