@@ -3,6 +3,6 @@
 ``docs/ros.md`` documents the topics, the frames and the conversions.
 """
 
-from uvms.ros.export import TOPICS, write_mcap
+from uvms.ros.export import SENSOR_PREFIX, SENSOR_TOPICS, TOPICS, sensor_topics, write_mcap
 
-__all__ = ["TOPICS", "write_mcap"]
+__all__ = ["SENSOR_PREFIX", "SENSOR_TOPICS", "TOPICS", "sensor_topics", "write_mcap"]

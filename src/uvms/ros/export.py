@@ -19,11 +19,22 @@ Topics (:data:`TOPICS`):
 - ``/uvms/thrusters/<name>`` ``WrenchStamped``: each thruster's commanded thrust ``T`` (``thrust_cmd_<name>``) as
   the wrench it puts on the vehicle, ``f = T d``, ``m = r x T d`` (mount ``r``, direction ``d``, vehicle axes);
 - ``/tf`` ``tf2_msgs/msg/TFMessage``: world -> vehicle and every joint's parent body -> child body, per row;
-  ``/tf_static``: each named frame of the model (:attr:`uvms.model.Model.frames`) in its body, once at ``t = 0``.
+  ``/tf_static``: each named frame of the model (:attr:`uvms.model.Model.frames`) in its body, and each simulated
+  sensor's mount in the vehicle, once at ``t = 0``;
+- ``/uvms/sensors/<name>`` (:data:`SENSOR_TOPICS`): each simulated sensor of the run (``Result.sensors``), at
+  its own sample times: an IMU as ``sensor_msgs/msg/Imu`` (no orientation: ``orientation_covariance[0] = -1``),
+  a pressure sensor as ``sensor_msgs/msg/FluidPressure`` [Pa], a DVL as two
+  ``geometry_msgs/msg/TwistWithCovarianceStamped`` topics, ``<name>/bottom_track`` (a sample whose bottom track
+  is invalid, out of range or a dropout, is not written) and ``<name>/water_track``, and encoders as
+  ``sensor_msgs/msg/JointState``. A sensor's ``frame_id`` is its name (encoders: ``""``, as ``/joint_states``).
+  The sensor's axes are turned like the vehicle's (``H R_bs H``, mount ``H r``): a sensor mounted with ``rpy``
+  zero has the axes of the vehicle's ``base_link`` in the bag too, and its vectors map by ``H``, so an IMU at
+  rest reads ``+|g|`` along its z axis (REP 145). Covariances are zero: "unknown" in these messages.
 """
 
 from __future__ import annotations
 
+import heapq
 import os
 import tempfile
 from pathlib import Path
@@ -45,7 +56,19 @@ TOPICS = {
     "/tf": "tf2_msgs/msg/TFMessage",
     "/tf_static": "tf2_msgs/msg/TFMessage",
 }
-"""Every topic :func:`write_mcap` may write and its message type."""
+"""Every topic :func:`write_mcap` may write and its message type (the sensors': :data:`SENSOR_TOPICS`)."""
+
+SENSOR_PREFIX = "/uvms/sensors/"
+"""A simulated sensor's topics are ``SENSOR_PREFIX + <its name> + <suffix>``."""
+
+SENSOR_TOPICS = {
+    "imu": {"": "sensor_msgs/msg/Imu"},
+    "pressure": {"": "sensor_msgs/msg/FluidPressure"},
+    "dvl": {"/bottom_track": "geometry_msgs/msg/TwistWithCovarianceStamped",
+            "/water_track": "geometry_msgs/msg/TwistWithCovarianceStamped"},
+    "encoders": {"": "sensor_msgs/msg/JointState"},
+}
+"""Each sensor kind's topic suffixes and message types."""
 
 WRENCH_LABELS = ("K", "M", "N", "X", "Y", "Z")
 
@@ -111,6 +134,93 @@ def _relative(R_p, p_p, R_c, p_c) -> tuple[np.ndarray, np.ndarray]:
     return R_p.T @ R_c, R_p.T @ (p_c - p_p)
 
 
+def sensor_topics(result) -> dict[str, str]:
+    """The topics of ``result``'s simulated sensors (:data:`SENSOR_TOPICS`) and their message types, in the
+    run's sensor order (a DVL's ``bottom_track`` is absent from a file when none of its samples is valid)."""
+    topics = {}
+    for name, record in (result.sensors or {}).items():
+        if record.kind not in SENSOR_TOPICS:
+            raise UvmsInputError(f"expected a sensor kind of {', '.join(SENSOR_TOPICS)}, found {record.kind!r}",
+                                 None, f"metadata.sensors.{name}.kind")
+        topics.update({SENSOR_PREFIX + name + suffix: t for suffix, t in SENSOR_TOPICS[record.kind].items()})
+    return topics
+
+
+def sensor_mounts(result, convention: str) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Each mounted sensor's ``(r, R_bs)`` in the bag's axes, ``(H r, H R_bs H)`` from a ``ned`` run (module
+    docstring), read from the run's ``metadata["sensors"][name]["mount"]`` (``offset_m``, ``rotation``: sensor
+    to body axes). A sensor without one (encoders, a run saved before mounts were recorded) has no entry.
+
+    Raises:
+        UvmsInputError: a mount that is not 3 finite numbers and a proper rotation (1e-9).
+    """
+    about = (result.metadata or {}).get("sensors") or {}
+    turn = frames.HALF_TURN if frames.check_frame(convention) == "ned" else np.eye(3)
+    mounts = {}
+    for name in result.sensors or {}:
+        mount = about.get(name, {}).get("mount") if isinstance(about.get(name), dict) else None
+        if mount is None:
+            continue
+        where = f"metadata.sensors.{name}.mount"
+        try:
+            r = np.asarray(mount["offset_m"], dtype=float).reshape(3)
+            R = np.asarray(mount["rotation"], dtype=float).reshape(3, 3)
+        except (KeyError, TypeError, ValueError):
+            raise UvmsInputError("expected offset_m (3 numbers) and rotation (3 x 3)", None, where) from None
+        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(R)) and np.allclose(R.T @ R, np.eye(3), atol=1e-9)
+                and np.linalg.det(R) > 0):
+            raise UvmsInputError("expected a finite offset and a proper rotation matrix", None, where)
+        mounts[name] = (turn @ r, turn @ R @ turn)
+    return mounts
+
+
+def _covariance(n: int) -> list[float]:
+    return [0.0] * n
+
+
+def _sensor_messages(name: str, record, convention: str):
+    """``(ns, topic, type, message, sequence)`` of each sample of sensor ``name``'s ``record``, in time order
+    (module docstring): vectors in the bag's axes, ``H v`` from a ``ned`` run."""
+    from uvms.sensors.dvl import BOTTOM_COLUMNS, WATER_COLUMNS
+    from uvms.sensors.imu import ACCEL_COLUMNS, GYRO_COLUMNS
+
+    def vectors(columns) -> np.ndarray:
+        return frames.convert_vectors(np.column_stack([record[c] for c in columns]), convention, "enu")
+
+    topic = SENSOR_PREFIX + name
+    types = SENSOR_TOPICS[record.kind]
+    kind = record.kind
+    frame_id = "" if kind == "encoders" else name
+    if kind == "imu":
+        gyro, accel = vectors(GYRO_COLUMNS), vectors(ACCEL_COLUMNS)
+    elif kind == "dvl":
+        bottom, water = vectors(BOTTOM_COLUMNS), vectors(WATER_COLUMNS)
+        valid = (record["bottom_valid"] > 0) & np.all(np.isfinite(bottom), axis=1)
+    for k, t in enumerate(record.time):
+        t = float(t)
+        ns = int(round(t * 1e9))
+        header = {"stamp": _stamp(t), "frame_id": frame_id}
+        if kind == "imu":
+            yield ns, topic, types[""], {
+                "header": header, "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0},
+                "orientation_covariance": [-1.0] + _covariance(8),
+                "angular_velocity": _vector(gyro[k]), "angular_velocity_covariance": _covariance(9),
+                "linear_acceleration": _vector(accel[k]), "linear_acceleration_covariance": _covariance(9)}, k
+        elif kind == "pressure":
+            yield ns, topic, types[""], {"header": header, "fluid_pressure": float(record["pressure"][k]),
+                                         "variance": 0.0}, k
+        elif kind == "dvl":
+            for suffix, v, ok in (("/bottom_track", bottom[k], valid[k]), ("/water_track", water[k], True)):
+                if ok and np.all(np.isfinite(v)):
+                    yield ns, topic + suffix, types[suffix], {
+                        "header": header, "twist": {"twist": {"linear": _vector(v), "angular": _vector((0, 0, 0))},
+                                                    "covariance": _covariance(36)}}, k
+        else:
+            yield ns, topic, types[""], {"header": header, "name": list(record.columns),
+                                         "position": [float(record[c][k]) for c in record.columns],
+                                         "velocity": [], "effort": []}, k
+
+
 def write_mcap(result, path, *, model, thrusters=None) -> Path:
     """Write ``result`` (a run of ``model``, in the model's convention) to ``path`` as MCAP (module docstring);
     ``thrusters`` (default: the model's) give the per-thruster topics their mounts. Written through a temporary
@@ -128,6 +238,14 @@ def write_mcap(result, path, *, model, thrusters=None) -> Path:
     names = list(model.joint_names)
     bodies = list(enu.body_names)
     vehicle = bodies[0]
+    sensor_topics(result)                          # every kind known before anything is written
+    mounts = sensor_mounts(result, model.convention)
+    taken = {WORLD_FRAME, *bodies, *(f.name for f in (enu.frames or ()))}
+    for name, record in (result.sensors or {}).items():
+        if record.kind != "encoders" and name in taken:
+            raise UvmsInputError(f"sensor {name!r} has the name of a frame of model {model.name!r} (or 'world'); "
+                                 f"its frame id would be ambiguous in /tf: rename the sensor", None,
+                                 f"sensors.{name}")
     R, p = _body_poses(enu, run)
     quats = _quaternions_of(R).reshape(len(run.time), len(bodies), 4)
     path = Path(path)
@@ -143,20 +261,28 @@ def write_mcap(result, path, *, model, thrusters=None) -> Path:
                                                                                                ros_version=2)[0])
                 return schemas[typename]
 
-            def write(topic: str, typename: str, t: float, message: dict, sequence: int) -> None:
-                ns = int(round(t * 1e9))
+            def write(topic: str, typename: str, t: float, message: dict, sequence: int, ns: int | None = None) -> None:
+                ns = int(round(t * 1e9)) if ns is None else ns
                 writer.write_message(topic, schema(typename), message, log_time=ns, publish_time=ns,
                                      sequence=sequence)
 
             static = [_transform(0.0, bodies[f.body], f.name, enu.frame(f.name).position,
                                  _quaternions_of(enu.frame(f.name).rotation)[0]) for f in (enu.frames or ())]
+            static += [_transform(0.0, vehicle, name, r, _quaternions_of(R)[0]) for name, (r, R) in mounts.items()]
             if static:
                 write("/tf_static", TOPICS["/tf_static"], 0.0, {"transforms": static}, 0)
             commanded = _signal_rows(run, "command_")
             unachieved = _signal_rows(run, "unachieved_")
             thrust = {th.name: run.signals.get(f"thrust_cmd_{th.name}") for th in thrusters}
+            samples = heapq.merge(*(_sensor_messages(name, record, model.convention)
+                                    for name, record in (result.sensors or {}).items()), key=lambda m: m[0])
+            pending = next(samples, None)
             for k, t in enumerate(run.time):
                 t = float(t)
+                while pending is not None and pending[0] <= int(round(t * 1e9)):   # in time order
+                    ns, topic, typename, message, sequence = pending
+                    write(topic, typename, 0.0, message, sequence, ns)
+                    pending = next(samples, None)
                 state = run.state(k)
                 write("/uvms/odometry", TOPICS["/uvms/odometry"], t, {
                     "header": {"stamp": _stamp(t), "frame_id": WORLD_FRAME}, "child_frame_id": vehicle,
@@ -187,6 +313,10 @@ def write_mcap(result, path, *, model, thrusters=None) -> Path:
                     f = float(thrust[th.name][k]) * d
                     write(f"/uvms/thrusters/{th.name}", TOPICS["/uvms/thrusters/<name>"], t,
                           _wrench(t, vehicle, np.concatenate([np.cross(r, f), f])), k)
+            while pending is not None:                                             # samples after the last row
+                ns, topic, typename, message, sequence = pending
+                write(topic, typename, 0.0, message, sequence, ns)
+                pending = next(samples, None)
             writer.finish()
         from uvms.output import publish
 

@@ -142,7 +142,9 @@ def result_of(plan, outcome, log, wall0: float) -> Result:
 
     sensors = sensor_records(plan, out_t, out_x, out_tau, signals)
     if sensors:
-        meta["sensors"] = {name: {"kind": r.kind, "rate_hz": float(s.rate), "frame_id": r.frame_id}
+        meta["sensors"] = {name: {"kind": r.kind, "rate_hz": float(s.rate), "frame_id": r.frame_id,
+                                  **({"mount": {"offset_m": s.mount.offset.tolist(),       # sensor -> body axes
+                                                "rotation": s.mount.rotation.tolist()}} if hasattr(s, "mount") else {})}
                            for (name, r), s in zip(sensors.items(), plan.recording.sensors)}
     return Result(time=out_t, states=out_x, n_joints=n, end_effector=ee, joint_torques=out_tau,
                   signals=signals, complete=complete,
