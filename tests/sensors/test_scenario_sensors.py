@@ -51,6 +51,18 @@ def test_a_scenarios_sensors_are_run_saved_and_read_back(tmp_path):
     assert back.sensors["dvl"].kind == "dvl"
 
 
+def test_uvms_run_names_every_file_it_saved(tmp_path, capsys):
+    """The closing line lists the sensor tables too, in the section's order, and each file it names exists."""
+    out = tmp_path / "out"
+    assert main(["run", str(_scenario(tmp_path)), "-o", str(out)]) == 0
+    line = [s for s in capsys.readouterr().out.splitlines() if "results saved to" in s]
+    assert len(line) == 1
+    names = ["result.csv", "result.json", "result.imu.csv", "result.depth.csv", "result.dvl.csv", "result.arm.csv",
+             "scenario.yaml"]
+    assert line[0].endswith(f"({', '.join(names)})"), line[0]
+    assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == sorted(names)
+
+
 @pytest.mark.parametrize("sensors, field", [
     ({"imu": {"kind": "imu", "rate": -5}}, "sensors.imu.rate"),
     ({"imu": {"kind": "gps", "rate": 5}}, "sensors.imu.kind"),

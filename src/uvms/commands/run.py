@@ -1,7 +1,8 @@
 """``uvms run SCENARIO [-o DIR]``: simulate a scenario file and save its results.
 
-Writes ``DIR/result.csv`` (time series), ``DIR/result.json`` (summary and metadata) and ``DIR/scenario.yaml``
-(the scenario file, verbatim). Nothing is written before the scenario is valid; the results go to a hidden
+Writes ``DIR/result.csv`` (time series), ``DIR/result.json`` (summary and metadata), ``DIR/result.<sensor>.csv``
+for each simulated sensor (``docs/sensors.md``) and ``DIR/scenario.yaml`` (the scenario file, verbatim); the
+closing line names every file written. Nothing is written before the scenario is valid; the results go to a hidden
 temporary sibling of ``DIR`` that is renamed into place at the end, so an interrupted run never leaves a
 half-written ``DIR``. A diverging run still saves what it computed (``"complete": false``) and exits 3; a
 complete but unhealthy run (tumbled, thrusters saturated: :mod:`uvms.sim.health`) exits 0 with one warning line.
@@ -67,8 +68,8 @@ def run(args: argparse.Namespace) -> int:
     console = Console()
     console.print(_summary_table(result, scenario.name))
     state = "saved" if result.complete else "saved (incomplete run)"
-    console.print(f"results {state} to {out}/ (result.csv, result.json, scenario.yaml)", highlight=False,
-                  soft_wrap=True)
+    files = ["result.csv", "result.json", *(f"result.{name}.csv" for name in result.sensors), "scenario.yaml"]
+    console.print(f"results {state} to {out}/ ({', '.join(files)})", highlight=False, soft_wrap=True)
     if not result.complete:
         print(f"uvms: error: {result.message}", file=sys.stderr)
         return 3
