@@ -92,6 +92,12 @@ def test_the_sensor_topics_and_types_are_as_documented(sensed):
         assert len(bag[f"/uvms/sensors/{topic}"]) == n, topic
 
 
+def test_uvms_export_names_the_sensors_it_wrote(sensed, tmp_path, capsys):
+    saved = sensed[0]
+    assert main(["export", str(saved._directory), "-o", str(tmp_path / "again.mcap")]) == 0
+    assert "of bluerov2_heavy_alpha5 and 4 sensors (imu, depth, dvl, arm) written to" in capsys.readouterr().out
+
+
 def test_the_sensor_values_are_the_runs_tables_turned_to_flu(sensed):
     """Every sample at its own stamp (header and log time), in its sensor's frame; vectors ``H v``."""
     saved, bag, _, _ = sensed

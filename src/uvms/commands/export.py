@@ -1,7 +1,8 @@
 """``uvms export RUN -o FILE.mcap [--model MODEL]``: a saved run as ROS 2 messages in an MCAP file (``docs/ros.md``).
 
 The file opens in Foxglove and ``ros2 bag info``; its topics and frames are those of :mod:`uvms.ros.export`
-(world z up, bodies forward-left-up: a z-down run is converted). Needs the optional extra ``uvms[ros]``.
+(world z up, bodies forward-left-up: a z-down run is converted), the run's simulated sensors included. Needs the
+optional extra ``uvms[ros]``.
 """
 
 from __future__ import annotations
@@ -10,7 +11,8 @@ import argparse
 from pathlib import Path
 
 NAME = "export"
-HELP = "write a saved run as ROS 2 messages (odometry, joint states, wrenches, tf) in an MCAP file (uvms[ros])"
+HELP = ("write a saved run as ROS 2 messages (odometry, joint states, wrenches, tf, simulated sensors) in an MCAP "
+        "file (uvms[ros])")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -59,6 +61,7 @@ def run(args: argparse.Namespace) -> int:
     write_mcap(result, output, model=model, thrusters=thrusters)
     if record:
         record_written(output)
-    print(f"{len(result.time)} rows ({result.time[0]:.3g}..{result.time[-1]:.3g} s) of {model.name} written to "
-          f"{output} as ROS 2 messages (world z up, bodies forward-left-up)")
+    sensors = f" and {len(result.sensors)} sensors ({', '.join(result.sensors)})" if result.sensors else ""
+    print(f"{len(result.time)} rows ({result.time[0]:.3g}..{result.time[-1]:.3g} s) of {model.name}{sensors} written "
+          f"to {output} as ROS 2 messages (world z up, bodies forward-left-up)")
     return 0
