@@ -246,3 +246,29 @@ def test_a_run_saved_without_mounts_writes_the_samples_and_no_sensor_frames(sens
     bag = _messages(older.to_mcap(tmp_path / "old.mcap", uvms.load_model("bluerov2_heavy_alpha5")))
     static = {t.child_frame_id for t in bag["/tf_static"][0][1].transforms}
     assert not static & set(MOUNTS) and len(bag["/uvms/sensors/imu"]) == 101
+
+
+def test_a_z_up_models_sensors_are_written_as_they_are(tmp_path):
+    """An ``enu`` model (the paper model turned z up): no turn, the table's numbers and the mount as given."""
+    from uvms.sensors import Dvl, Imu, Mount, NoiseDensity
+
+    model = uvms.load_model("paper").in_frame("enu")
+    mount = Mount.of([0.1, 0.2, -0.3], [0.2, 0.1, -0.4])
+    sensors = [Imu(rate=100, mount=mount, accel=NoiseDensity(white=1e-3)), Dvl(rate=50, mount=mount)]
+    start = uvms.State.from_euler(model, position=[0.0, 0.0, -4.0], euler=[0.1, 0.2, 0.3],
+                                  nu=[0.1, -0.2, 0.15, 0.3, 0.1, -0.1])
+    result = uvms.simulate(model, start, duration=0.2, sensors=sensors, record_period=0.01,
+                           joint_torques=np.linspace(1.0, -1.0, model.n_joints))
+    bag = _messages(result.to_mcap(tmp_path / "enu.mcap", model))
+    imu = result.sensors["imu"]
+    np.testing.assert_allclose(_xyz(m.linear_acceleration for _, m in bag["/uvms/sensors/imu"]),
+                               np.column_stack([imu[f"accel_{a}"] for a in "xyz"]), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(_xyz(m.angular_velocity for _, m in bag["/uvms/sensors/imu"]),
+                               np.column_stack([imu[f"gyro_{a}"] for a in "xyz"]), rtol=0, atol=1e-12)
+    assert np.abs(np.column_stack([imu[f"gyro_{a}"] for a in "xyz"])).max() > 1e-2    # it turns
+    dvl = result.sensors["dvl"]
+    np.testing.assert_allclose(_xyz(m.twist.twist.linear for _, m in bag["/uvms/sensors/dvl/bottom_track"]),
+                               np.column_stack([dvl[f"bottom_{a}"] for a in "xyz"]), rtol=0, atol=1e-12)
+    r, R = _mount(bag, "imu")
+    np.testing.assert_allclose(r, mount.offset, atol=1e-12)
+    np.testing.assert_allclose(R, mount.rotation, atol=1e-12)

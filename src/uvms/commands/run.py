@@ -17,7 +17,8 @@ from pathlib import Path
 from typing import Any
 
 NAME = "run"
-HELP = "simulate a scenario file (or a bundled scenario name) and save result.csv, result.json and scenario.yaml"
+HELP = ("simulate a scenario file (or a bundled scenario name) and save result.csv, result.json, each sensor's "
+        "result.<sensor>.csv and scenario.yaml")
 
 PROGRESS_AFTER = 1.0
 """Wall time [s] after which a progress bar appears (on a terminal only)."""
