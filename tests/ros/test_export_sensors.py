@@ -272,3 +272,28 @@ def test_a_z_up_models_sensors_are_written_as_they_are(tmp_path):
     r, R = _mount(bag, "imu")
     np.testing.assert_allclose(r, mount.offset, atol=1e-12)
     np.testing.assert_allclose(R, mount.rotation, atol=1e-12)
+
+
+def test_a_damaged_saved_sensor_table_or_mount_is_one_line_exit_2(sensed, tmp_path, capsys):
+    """A saved run whose IMU table lost a column, or whose metadata's mount is not a rotation: ``uvms export``
+    names the file or field in one line, exit 2, and writes nothing."""
+    import json
+    import shutil
+
+    saved = sensed[0]
+    for damage, message in (("column", "missing gyro_x"), ("mount", "a proper rotation matrix")):
+        folder = tmp_path / damage
+        shutil.copytree(saved._directory, folder)
+        if damage == "column":
+            table = (folder / "result.imu.csv").read_text().splitlines()
+            (folder / "result.imu.csv").write_text("\n".join(",".join(row.split(",")[:1] + row.split(",")[2:])
+                                                             for row in table) + "\n")
+        else:
+            summary = json.loads((folder / "result.json").read_text())
+            summary["metadata"]["sensors"]["dvl"]["mount"]["rotation"] = [[2, 0, 0], [0, 1, 0], [0, 0, 1]]
+            (folder / "result.json").write_text(json.dumps(summary))
+        capsys.readouterr()
+        assert main(["export", str(folder), "-o", str(tmp_path / f"{damage}.mcap")]) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1, err
+        assert not (tmp_path / f"{damage}.mcap").exists()

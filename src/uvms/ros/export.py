@@ -137,11 +137,23 @@ def _relative(R_p, p_p, R_c, p_c) -> tuple[np.ndarray, np.ndarray]:
 def sensor_topics(result) -> dict[str, str]:
     """The topics of ``result``'s simulated sensors (:data:`SENSOR_TOPICS`) and their message types, in the
     run's sensor order (a DVL's ``bottom_track`` is absent from a file when none of its samples is valid)."""
+    from uvms.sensors.dvl import BOTTOM_COLUMNS, WATER_COLUMNS
+    from uvms.sensors.imu import ACCEL_COLUMNS, GYRO_COLUMNS
+
+    needs = {"imu": GYRO_COLUMNS + ACCEL_COLUMNS, "pressure": ("pressure",),
+             "dvl": BOTTOM_COLUMNS + ("bottom_valid",) + WATER_COLUMNS, "encoders": ()}
+    folder = getattr(result, "_directory", None)
     topics = {}
     for name, record in (result.sensors or {}).items():
         if record.kind not in SENSOR_TOPICS:
             raise UvmsInputError(f"expected a sensor kind of {', '.join(SENSOR_TOPICS)}, found {record.kind!r}",
-                                 None, f"metadata.sensors.{name}.kind")
+                                 None if folder is None else str(folder / "result.json"),
+                                 f"metadata.sensors.{name}.kind")
+        missing = [c for c in needs[record.kind] if c not in record.columns]
+        if missing:
+            table = None if folder is None else str(folder / f"result.{name}.csv")
+            raise UvmsInputError(f"expected the {record.kind} columns {', '.join(needs[record.kind])}; missing "
+                                 f"{', '.join(missing)}", table, f"sensors.{name}")
         topics.update({SENSOR_PREFIX + name + suffix: t for suffix, t in SENSOR_TOPICS[record.kind].items()})
     return topics
 
@@ -155,6 +167,7 @@ def sensor_mounts(result, convention: str) -> dict[str, tuple[np.ndarray, np.nda
         UvmsInputError: a mount that is not 3 finite numbers and a proper rotation (1e-9).
     """
     about = (result.metadata or {}).get("sensors") or {}
+    about = about if isinstance(about, dict) else {}
     turn = frames.HALF_TURN if frames.check_frame(convention) == "ned" else np.eye(3)
     mounts = {}
     for name in result.sensors or {}:
