@@ -171,8 +171,8 @@ def test_a_ros_reader_finds_the_gyro_and_dvl_consistent_with_the_odometry_and_tf
     """In the bag written in memory (full precision): ``gyro = R_s^T omega``, ``bottom = R_s^T (v + omega x r)``
     and ``water - bottom = -R_s^T R^T u`` with the world current ``u`` turned to z up (``H u``), every quantity
     taken from the bag's own odometry and ``/tf_static`` (1e-12)."""
-    _, _, result, bag = sensed
-    r_imu, R_imu = _mount(bag, "imu")
+    bag = sensed[3]
+    _, R_imu = _mount(bag, "imu")
     imu = bag["/uvms/sensors/imu"]
     omega, _, _ = _odometry_at(bag, _stamps(imu))
     np.testing.assert_allclose(_xyz(m.angular_velocity for _, m in imu), omega @ R_imu, rtol=0, atol=1e-12)
@@ -192,7 +192,7 @@ def test_a_ros_reader_finds_the_gyro_and_dvl_consistent_with_the_odometry_and_tf
 def test_the_imu_at_rest_reads_plus_g_up_in_the_world(sensed):
     """REP 145: the accelerometer measures the specific force, +|g| along the world's up axis for a vehicle at
     rest (station keeping: accelerations of a few cm/s^2); read through the bag's mount and odometry."""
-    _, _, result, bag = sensed
+    bag = sensed[3]
     _, R_imu = _mount(bag, "imu")
     imu = bag["/uvms/sensors/imu"]
     _, _, R = _odometry_at(bag, _stamps(imu))
@@ -210,18 +210,14 @@ def test_the_saved_and_the_in_memory_runs_write_the_same_sensor_messages(sensed)
     np.testing.assert_allclose(a, _xyz(m.linear_acceleration for _, m in bag["/uvms/sensors/imu"]), rtol=0, atol=1e-12)
 
 
-def test_messages_are_in_time_order(sensed):
+def test_messages_are_in_time_order(sensed, tmp_path):
     """``ros2 bag play`` plays in log-time order: the file's messages come in that order (``mcap``'s reader, in
     file order)."""
     from mcap.reader import make_reader
 
-    _, _, result, _ = sensed
-    import tempfile
-
-    with tempfile.TemporaryDirectory() as tmp:
-        path = result.to_mcap(Path(tmp) / "r.mcap", uvms.load_model("bluerov2_heavy_alpha5"))
-        with open(path, "rb") as fh:
-            times = [m.log_time for _, _, m in make_reader(fh).iter_messages(log_time_order=False)]
+    path = sensed[2].to_mcap(tmp_path / "r.mcap", uvms.load_model("bluerov2_heavy_alpha5"))
+    with open(path, "rb") as fh:
+        times = [m.log_time for _, _, m in make_reader(fh).iter_messages(log_time_order=False)]
     assert times == sorted(times) and len(times) > 0
 
 
@@ -297,3 +293,17 @@ def test_a_damaged_saved_sensor_table_or_mount_is_one_line_exit_2(sensed, tmp_pa
         err = capsys.readouterr().err
         assert message in err and len(err.strip().splitlines()) == 1, err
         assert not (tmp_path / f"{damage}.mcap").exists()
+
+
+def test_docs_ros_md_tables_every_sensor_topic_with_its_type():
+    """``docs/ros.md``'s topic table has a row per sensor topic of :data:`uvms.ros.SENSOR_TOPICS`, with its type."""
+    import re
+
+    from uvms.ros import SENSOR_TOPICS
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "ros.md").read_text()
+    found = re.findall(r"^\| `/uvms/sensors/<(\w+)>([\w/]*)` \| `([\w/]+)` \|", text, re.M)
+    rows = {(kind, suffix): typename for kind, suffix, typename in found}
+    assert len(rows) == len(found)                                     # each row once
+    expected = {(kind, suffix): typename for kind, topics in SENSOR_TOPICS.items() for suffix, typename in topics.items()}
+    assert rows == expected
