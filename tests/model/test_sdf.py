@@ -403,3 +403,23 @@ def test_a_joint_pose_off_its_child_link_frame(tmp_path):
     ga = uvms.forward_dynamics(a, state, joint_torques=[0.5]).generalized
     gb = uvms.forward_dynamics(b, state, joint_torques=[0.5]).generalized
     np.testing.assert_allclose(ga, gb, rtol=0, atol=1e-12 * np.abs(gb).max())
+
+
+def test_a_thruster_commanded_by_angular_velocity_is_noted(tmp_path):
+    """gz-sim's Thruster with ``use_angvel_cmd`` true takes the propeller's angular velocity as its command;
+    uvms's ideal thruster takes the thrust: the warning says so (and names the joints), the thrusters stay."""
+    text = fx.sdf().replace("<joint_name>thruster_1_joint</joint_name>",
+                            "<joint_name>thruster_1_joint</joint_name><use_angvel_cmd>true</use_angvel_cmd>")
+    (tmp_path / "rov.sdf").write_text(text)
+    with pytest.warns(UserWarning, match=r"thruster thruster_1_joint: use_angvel_cmd: gz-sim commands it by the "
+                                         r"propeller's angular velocity") as caught:
+        model = uvms.load_model(tmp_path / "rov.sdf")
+    assert len(model.thrusters) == 4
+    assert not any("thruster_0_joint: use_angvel_cmd" in str(w.message) for w in caught)
+    (tmp_path / "plain.sdf").write_text(fx.sdf().replace(
+        "<joint_name>thruster_1_joint</joint_name>",
+        "<joint_name>thruster_1_joint</joint_name><use_angvel_cmd>false</use_angvel_cmd>"))
+    with warnings.catch_warnings(record=True) as plain:
+        warnings.simplefilter("always")
+        uvms.load_model(tmp_path / "plain.sdf")
+    assert not any("use_angvel_cmd" in str(w.message) for w in plain)
