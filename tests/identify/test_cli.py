@@ -53,3 +53,28 @@ def test_bad_identify_options_exit_2_and_write_nothing(tmp_path, capsys, argumen
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
     assert not out.exists()
+
+
+def test_a_fit_that_stops_early_or_at_a_bound_says_so_and_writes_its_best_point(tmp_path, capsys):
+    """Issue 25, bad input: non-convergence is said (and recorded), the best point is written, and a parameter
+    stopped at a bound is named, on stderr, beside the fitted file."""
+    import yaml
+
+    base = uvms.load_model("paper")
+    path, _ = write_log(tmp_path / "log", with_parameters(base, {"cob.z": float(base.cob[0, 2]) - 0.008}),
+                        seconds=3.0)
+    out = tmp_path / "fit.yaml"
+    bound = f"cob.z={float(base.cob[0, 2]) - 0.002}:{float(base.cob[0, 2]) + 0.01}"      # the truth lies below it
+    code = main(["identify", "paper", str(path), "--fit", f"{bound},cob.x", "--max-evaluations", "20",
+                 "-o", str(out)])
+    assert code == 0
+    err = capsys.readouterr().err
+    record = yaml.safe_load(out.read_text())["identified"]["record"]
+    assert record["at_bound"] == ["cob.z"] and "stopped at a bound: cob.z" in err
+    assert uvms.load_model(out).cob[0, 2] == pytest.approx(float(base.cob[0, 2]) - 0.002, abs=1e-5)
+    stopped = tmp_path / "stopped.yaml"
+    assert main(["identify", "paper", str(path), "--fit", "cob.z", "--max-evaluations", "1",
+                 "-o", str(stopped)]) == 0
+    err = capsys.readouterr().err
+    assert "the fit did not converge" in err and "the best point found was kept" in err
+    assert yaml.safe_load(stopped.read_text())["identified"]["record"]["converged"] is False

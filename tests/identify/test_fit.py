@@ -85,6 +85,21 @@ def test_a_bound_that_stops_the_fit_is_named():
     assert result.values[0] == pytest.approx(base.cob[0, 2] - 0.005)
 
 
+def test_a_fit_stopped_early_says_so_and_keeps_the_best_point_it_evaluated():
+    """Issue 25, bad input: a fit that does not converge says so and keeps the best point. Every residual
+    evaluation's cost is seen through ``progress``; the point kept is the cheapest of them."""
+    base = uvms.load_model("paper")
+    truth = with_parameters(base, {"cob.z": base.cob[0, 2] - 0.01, "cob.x": base.cob[0, 0] + 0.004})
+    fit = _experiments(truth, [(0.15, 0.1, 0.0)], seed=4, duration=3.0)
+    costs = []
+    result = identify(base, fit, ["cob.z", "cob.x"], scale=SCALE, threads=2, max_evaluations=3,
+                      progress=lambda evaluations, cost: costs.append(cost))
+    assert not result.converged and "maximum number of function evaluations" in result.message
+    assert result.evaluations == len(costs) == 3
+    assert result.cost[0] == costs[0]                 # the first evaluation is the start
+    assert result.cost[1] == min(costs) < costs[0]    # the point kept is the best evaluated, better than the start
+
+
 @pytest.mark.parametrize("parameters, message", [
     (["cob.q"], "unknown parameter"),
     (["cob.z=1:0"], "lower < upper"),
