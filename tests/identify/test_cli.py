@@ -78,3 +78,24 @@ def test_a_fit_that_stops_early_or_at_a_bound_says_so_and_writes_its_best_point(
     err = capsys.readouterr().err
     assert "the fit did not converge" in err and "the best point found was kept" in err
     assert yaml.safe_load(stopped.read_text())["identified"]["record"]["converged"] is False
+
+
+def test_the_progress_bar_counts_evaluations_on_a_terminal_and_stays_quiet_elsewhere():
+    """``uvms identify``'s progress bar (stderr, a terminal only): evaluations done of the most allowed, and the
+    cost of the last one; nothing at all when stderr is not a terminal (a log file)."""
+    import io
+
+    from rich.console import Console
+
+    from uvms.commands.identify import _Progress
+
+    for terminal in (True, False):
+        bar = _Progress(30)
+        sink = io.StringIO()
+        bar.console = Console(file=sink, force_terminal=terminal, width=120)
+        with bar as progress:
+            progress(7, 1234.5)
+            if terminal:
+                bar.bar.refresh()
+        text = sink.getvalue()
+        assert ("7/30 evaluations, cost 1234" in text) is terminal and (text == "") is not terminal
