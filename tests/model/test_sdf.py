@@ -480,3 +480,14 @@ def test_sdf_fixed_and_prismatic_joints_frames_degrees_and_quaternion_poses(tmp_
     assert sdf.density == 1025.0 and sdf.buoyancy_mass[0] == 0.0          # no Buoyancy system: none, as gz-sim
     np.testing.assert_array_equal(sdf.current, [0.2, -0.1, 0.05])
     assert sdf.damping_linear[0][3, 3] == 5.0 and not np.any(sdf.added_mass)
+
+
+def test_a_world_files_gravity_is_read_in_either_frame(tmp_path):
+    """The world's ``<gravity>`` (z up in SDF) becomes the model's, turned by the half turn when the file is read
+    in the ``ned`` convention (``frame=``)."""
+    (tmp_path / "w.sdf").write_text(fx.sdf().replace("<gravity>0 0 -9.81</gravity>", "<gravity>0.1 0.2 -9.7</gravity>"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        enu, ned = uvms.load_model(tmp_path / "w.sdf"), uvms.load_model(tmp_path / "w.sdf", frame="ned")
+    np.testing.assert_array_equal(enu.gravity, [0.1, 0.2, -9.7])
+    np.testing.assert_array_equal(ned.gravity, [0.1, -0.2, 9.7])
