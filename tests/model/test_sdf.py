@@ -491,3 +491,27 @@ def test_a_world_files_gravity_is_read_in_either_frame(tmp_path):
         enu, ned = uvms.load_model(tmp_path / "w.sdf"), uvms.load_model(tmp_path / "w.sdf", frame="ned")
     np.testing.assert_array_equal(enu.gravity, [0.1, 0.2, -9.7])
     np.testing.assert_array_equal(ned.gravity, [0.1, -0.2, 9.7])
+
+
+def test_buoyancy_of_sphere_cylinder_and_ellipsoid_collisions(tmp_path):
+    """gz-sim's Buoyancy system (``uniform_fluid_density``): rho times each collision's volume, written out here
+    (sphere 4/3 pi r^3, cylinder pi r^2 L, ellipsoid 4/3 pi a b c), at the volumes' centre; a mesh collision is
+    not mapped (named in the warning)."""
+    rho = 1020.0
+    shapes = [("sphere", "<radius>0.2</radius>", (0.3, 0.0, 0.1), 4.0 / 3.0 * math.pi * 0.2 ** 3),
+              ("cylinder", "<radius>0.1</radius><length>0.8</length>", (-0.2, 0.1, 0.0), math.pi * 0.1 ** 2 * 0.8),
+              ("ellipsoid", "<radii>0.3 0.2 0.1</radii>", (0.0, -0.1, -0.05), 4.0 / 3.0 * math.pi * 0.3 * 0.2 * 0.1)]
+    collisions = "".join(f'<collision name="{k}"><pose>{x} {y} {z} 0 0.3 0</pose><geometry><{k}>{size}</{k}>'
+                         f'</geometry></collision>' for k, size, (x, y, z), _ in shapes)
+    collisions += '<collision name="m"><geometry><mesh><uri>hull.dae</uri></mesh></geometry></collision>'
+    (tmp_path / "b.sdf").write_text(
+        f'<sdf version="1.9"><world name="w"><plugin filename="gz-sim-buoyancy-system" '
+        f'name="gz::sim::systems::Buoyancy"><uniform_fluid_density>{rho!r}</uniform_fluid_density></plugin>'
+        f'<model name="b"><link name="base"><inertial><mass>40</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz>'
+        f'</inertia></inertial>{collisions}</link></model></world></sdf>')
+    with pytest.warns(UserWarning, match="mesh"):
+        model = uvms.load_model(tmp_path / "b.sdf")
+    volumes = np.array([v for *_, v in shapes])
+    centres = np.array([c for _, _, c, _ in shapes])
+    assert model.buoyancy_mass[0] == pytest.approx(rho * volumes.sum(), rel=1e-12)
+    np.testing.assert_allclose(model.cob[0], volumes @ centres / volumes.sum(), rtol=0, atol=1e-12)
