@@ -112,6 +112,12 @@ def test_bad_fits_are_one_line(parameters, message):
         identify(base, [e], parameters)
     with pytest.raises(UvmsInputError, match="both fitted and held out"):
         identify(base, [e], ["cob.z"], held_out=[e])
+    for option, words in (({"max_evaluations": 0}, "max_evaluations: expected a whole number >= 1"),
+                          ({"threads": 0}, "threads: expected a whole number >= 1"),
+                          ({"threads": 2.5}, "threads: expected a whole number >= 1"),
+                          ({"loss": "l1"}, "loss: expected one of linear, soft_l1")):
+        with pytest.raises(UvmsInputError, match=words):
+            identify(base, [e], ["cob.z"], **option)
 
 
 def test_signals_by_hand():
