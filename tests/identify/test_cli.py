@@ -47,6 +47,7 @@ def test_identify_recovers_known_parameters_from_noisy_synthetic_logs(tmp_path, 
     (["--fit", "cob.z", "--signals", "heading"], "unknown signal 'heading'"),
     (["--fit", "cob.z", "--max-evaluations", "0"], "--max-evaluations: expected a whole number >= 1, got 0"),
     (["--fit", "cob.z", "--threads", "-3"], "--threads: expected a whole number >= 1, got -3"),
+    (["--fit", "cob.z", "--step", "0"], "--step: expected a positive, finite number [s], got 0.0"),
 ])
 def test_bad_identify_options_exit_2_and_write_nothing(tmp_path, capsys, arguments, message):
     path, _ = write_log(tmp_path / "log", uvms.load_model("paper"), seconds=2.0)

@@ -112,6 +112,9 @@ def test_bad_fits_are_one_line(parameters, message):
         identify(base, [e], parameters)
     with pytest.raises(UvmsInputError, match="both fitted and held out"):
         identify(base, [e], ["cob.z"], held_out=[e])
+    for step in (0.0, float("nan")):
+        with pytest.raises(UvmsInputError, match="step: expected a positive, finite number"):
+            Experiment("e", uvms.State.zero(base), 1.0, np.array([0.0, 1.0]), {"roll": [0, 0]}, step=step)
     for option, words in (({"max_evaluations": 0}, "max_evaluations: expected a whole number >= 1"),
                           ({"threads": 0}, "threads: expected a whole number >= 1"),
                           ({"threads": 2.5}, "threads: expected a whole number >= 1"),
