@@ -515,3 +515,13 @@ def test_buoyancy_of_sphere_cylinder_and_ellipsoid_collisions(tmp_path):
     centres = np.array([c for _, _, c, _ in shapes])
     assert model.buoyancy_mass[0] == pytest.approx(rho * volumes.sum(), rel=1e-12)
     np.testing.assert_allclose(model.cob[0], volumes @ centres / volumes.sum(), rtol=0, atol=1e-12)
+
+
+def test_disable_coriolis_is_reported_not_applied(tmp_path):
+    """``disable_coriolis`` cannot be honoured (uvms's added mass brings its Coriolis force with it): the added
+    mass is kept and the warning says so."""
+    (tmp_path / "m.sdf").write_text(_FEATURES_SDF.replace("<disable_added_mass>true</disable_added_mass>",
+                                                          "<disable_coriolis>true</disable_coriolis>"))
+    with pytest.warns(UserWarning, match="disable_coriolis not mapped"):
+        model = uvms.load_model(tmp_path / "m.sdf")
+    assert model.added_mass[0][3, 3] == 7.0
