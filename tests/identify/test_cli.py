@@ -45,6 +45,9 @@ def test_identify_recovers_known_parameters_from_noisy_synthetic_logs(tmp_path, 
     (["--fit", "cob.w"], "unknown parameter 'cob.w'"),
     (["--fit", "cob.z=2:1"], "lower < upper"),
     (["--fit", "cob.z", "--signals", "heading"], "unknown signal 'heading'"),
+    (["--fit", "cob.z", "--max-evaluations", "0"], "--max-evaluations: expected a whole number >= 1, got 0"),
+    (["--fit", "cob.z", "--threads", "-3"], "--threads: expected a whole number >= 1, got -3"),
+    (["--fit", "cob.z", "--step", "0"], "--step: expected a positive, finite number [s], got 0.0"),
 ])
 def test_bad_identify_options_exit_2_and_write_nothing(tmp_path, capsys, arguments, message):
     path, _ = write_log(tmp_path / "log", uvms.load_model("paper"), seconds=2.0)
@@ -53,3 +56,49 @@ def test_bad_identify_options_exit_2_and_write_nothing(tmp_path, capsys, argumen
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
     assert not out.exists()
+
+
+def test_a_fit_that_stops_early_or_at_a_bound_says_so_and_writes_its_best_point(tmp_path, capsys):
+    """Issue 25, bad input: non-convergence is said (and recorded), the best point is written, and a parameter
+    stopped at a bound is named, on stderr, beside the fitted file."""
+    import yaml
+
+    base = uvms.load_model("paper")
+    path, _ = write_log(tmp_path / "log", with_parameters(base, {"cob.z": float(base.cob[0, 2]) - 0.008}),
+                        seconds=3.0)
+    out = tmp_path / "fit.yaml"
+    bound = f"cob.z={float(base.cob[0, 2]) - 0.002}:{float(base.cob[0, 2]) + 0.01}"      # the truth lies below it
+    code = main(["identify", "paper", str(path), "--fit", f"{bound},cob.x", "--max-evaluations", "20",
+                 "-o", str(out)])
+    assert code == 0
+    err = capsys.readouterr().err
+    record = yaml.safe_load(out.read_text())["identified"]["record"]
+    assert record["at_bound"] == ["cob.z"] and "stopped at a bound: cob.z" in err
+    assert uvms.load_model(out).cob[0, 2] == pytest.approx(float(base.cob[0, 2]) - 0.002, abs=1e-5)
+    stopped = tmp_path / "stopped.yaml"
+    assert main(["identify", "paper", str(path), "--fit", "cob.z", "--max-evaluations", "1",
+                 "-o", str(stopped)]) == 0
+    err = capsys.readouterr().err
+    assert "the fit did not converge" in err and "the best point found was kept" in err
+    assert yaml.safe_load(stopped.read_text())["identified"]["record"]["converged"] is False
+
+
+def test_the_progress_bar_counts_evaluations_on_a_terminal_and_stays_quiet_elsewhere():
+    """``uvms identify``'s progress bar (stderr, a terminal only): evaluations done of the most allowed, and the
+    cost of the last one; nothing at all when stderr is not a terminal (a log file)."""
+    import io
+
+    from rich.console import Console
+
+    from uvms.commands.identify import _Progress
+
+    for terminal in (True, False):
+        bar = _Progress(30)
+        sink = io.StringIO()
+        bar.console = Console(file=sink, force_terminal=terminal, width=120)
+        with bar as progress:
+            progress(7, 1234.5)
+            if terminal:
+                bar.bar.refresh()
+        text = sink.getvalue()
+        assert ("7/30 evaluations, cost 1234" in text) is terminal and (text == "") is not terminal

@@ -85,6 +85,21 @@ def test_a_bound_that_stops_the_fit_is_named():
     assert result.values[0] == pytest.approx(base.cob[0, 2] - 0.005)
 
 
+def test_a_fit_stopped_early_says_so_and_keeps_the_best_point_it_evaluated():
+    """Issue 25, bad input: a fit that does not converge says so and keeps the best point. Every residual
+    evaluation's cost is seen through ``progress``; the point kept is the cheapest of them."""
+    base = uvms.load_model("paper")
+    truth = with_parameters(base, {"cob.z": base.cob[0, 2] - 0.01, "cob.x": base.cob[0, 0] + 0.004})
+    fit = _experiments(truth, [(0.15, 0.1, 0.0)], seed=4, duration=3.0)
+    costs = []
+    result = identify(base, fit, ["cob.z", "cob.x"], scale=SCALE, threads=2, max_evaluations=3,
+                      progress=lambda evaluations, cost: costs.append(cost))
+    assert not result.converged and "maximum number of function evaluations" in result.message
+    assert result.evaluations == len(costs) == 3
+    assert result.cost[0] == costs[0]                 # the first evaluation is the start
+    assert result.cost[1] == min(costs) < costs[0]    # the point kept is the best evaluated, better than the start
+
+
 @pytest.mark.parametrize("parameters, message", [
     (["cob.q"], "unknown parameter"),
     (["cob.z=1:0"], "lower < upper"),
@@ -97,6 +112,15 @@ def test_bad_fits_are_one_line(parameters, message):
         identify(base, [e], parameters)
     with pytest.raises(UvmsInputError, match="both fitted and held out"):
         identify(base, [e], ["cob.z"], held_out=[e])
+    for step in (0.0, float("nan")):
+        with pytest.raises(UvmsInputError, match="step: expected a positive, finite number"):
+            Experiment("e", uvms.State.zero(base), 1.0, np.array([0.0, 1.0]), {"roll": [0, 0]}, step=step)
+    for option, words in (({"max_evaluations": 0}, "max_evaluations: expected a whole number >= 1"),
+                          ({"threads": 0}, "threads: expected a whole number >= 1"),
+                          ({"threads": 2.5}, "threads: expected a whole number >= 1"),
+                          ({"loss": "l1"}, "loss: expected one of linear, soft_l1")):
+        with pytest.raises(UvmsInputError, match=words):
+            identify(base, [e], ["cob.z"], **option)
 
 
 def test_signals_by_hand():

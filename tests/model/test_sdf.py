@@ -403,3 +403,125 @@ def test_a_joint_pose_off_its_child_link_frame(tmp_path):
     ga = uvms.forward_dynamics(a, state, joint_torques=[0.5]).generalized
     gb = uvms.forward_dynamics(b, state, joint_torques=[0.5]).generalized
     np.testing.assert_allclose(ga, gb, rtol=0, atol=1e-12 * np.abs(gb).max())
+
+
+def test_a_thruster_commanded_by_angular_velocity_is_noted(tmp_path):
+    """gz-sim's Thruster with ``use_angvel_cmd`` true takes the propeller's angular velocity as its command;
+    uvms's ideal thruster takes the thrust: the warning says so (and names the joints), the thrusters stay."""
+    text = fx.sdf().replace("<joint_name>thruster_1_joint</joint_name>",
+                            "<joint_name>thruster_1_joint</joint_name><use_angvel_cmd>true</use_angvel_cmd>")
+    (tmp_path / "rov.sdf").write_text(text)
+    with pytest.warns(UserWarning, match=r"thruster thruster_1_joint: use_angvel_cmd: gz-sim commands it by the "
+                                         r"propeller's angular velocity") as caught:
+        model = uvms.load_model(tmp_path / "rov.sdf")
+    assert len(model.thrusters) == 4
+    assert not any("thruster_0_joint: use_angvel_cmd" in str(w.message) for w in caught)
+    (tmp_path / "plain.sdf").write_text(fx.sdf().replace(
+        "<joint_name>thruster_1_joint</joint_name>",
+        "<joint_name>thruster_1_joint</joint_name><use_angvel_cmd>false</use_angvel_cmd>"))
+    with warnings.catch_warnings(record=True) as plain:
+        warnings.simplefilter("always")
+        uvms.load_model(tmp_path / "plain.sdf")
+    assert not any("use_angvel_cmd" in str(w.message) for w in plain)
+
+
+_FEATURES_SDF = """<?xml version="1.0"?>
+<sdf version="1.9"><model name="m">
+  <frame name="mount" attached_to="base"><pose>0.3 0 -0.1 0 0 0</pose></frame>
+  <link name="base"><inertial><mass>50</mass><inertia><ixx>2</ixx><iyy>3</iyy><izz>4</izz></inertia></inertial>
+  </link>
+  <link name="payload"><pose relative_to="base" degrees="true">0.1 0.2 0 0 0 90</pose>
+    <inertial><pose>0.05 0 0 0 0 0</pose><mass>3</mass><inertia><ixx>0.1</ixx><iyy>0.2</iyy><izz>0.3</izz>
+    </inertia></inertial></link>
+  <joint name="fix" type="fixed"><parent>base</parent><child>payload</child></joint>
+  <link name="slider"><pose relative_to="mount" rotation_format="quat_xyzw">0 0 0 0 0 0.7071067811865476
+    0.7071067811865476</pose><inertial><mass>2</mass><inertia><ixx>0.01</ixx><iyy>0.02</iyy><izz>0.03</izz>
+    </inertia></inertial></link>
+  <joint name="slide" type="prismatic"><parent>base</parent><child>slider</child>
+    <axis><xyz>1 0 0</xyz><limit><lower>-0.5</lower><upper>0.5</upper></limit></axis></joint>
+  <plugin filename="gz-sim-hydrodynamics-system" name="gz::sim::systems::Hydrodynamics">
+    <link_name>base</link_name><water_density>1025</water_density><default_current>0.2 -0.1 0.05</default_current>
+    <xU>-5</xU><xDotU>-7</xDotU><disable_added_mass>true</disable_added_mass></plugin>
+</model></sdf>
+"""
+
+_FEATURES_URDF = """<?xml version="1.0"?>
+<robot name="m">
+  <link name="base"><inertial><mass value="50"/><inertia ixx="2" ixy="0" ixz="0" iyy="3" iyz="0" izz="4"/></inertial>
+  </link>
+  <link name="payload"><inertial><origin xyz="0.05 0 0"/><mass value="3"/>
+    <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.3"/></inertial></link>
+  <joint name="fix" type="fixed"><parent link="base"/><child link="payload"/>
+    <origin xyz="0.1 0.2 0" rpy="0 0 1.5707963267948966"/></joint>
+  <link name="slider"><inertial><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.03"/>
+    </inertial></link>
+  <joint name="slide" type="prismatic"><parent link="base"/><child link="slider"/>
+    <origin xyz="0.3 0 -0.1" rpy="0 0 1.5707963267948966"/><axis xyz="1 0 0"/>
+    <limit lower="-0.5" upper="0.5" effort="0" velocity="0"/></joint>
+</robot>
+"""
+
+
+def test_sdf_fixed_and_prismatic_joints_frames_degrees_and_quaternion_poses(tmp_path):
+    """A fixed link posed in degrees, a prismatic link posed by a quaternion relative to a ``<frame>``: the same
+    tree as the URDF written out by hand (fixed link merged, joint origin, axis, limits); the Hydrodynamics
+    system's ``water_density``, ``default_current`` and linear term are read, and ``disable_added_mass`` leaves
+    its added mass out with a note."""
+    (tmp_path / "m.sdf").write_text(_FEATURES_SDF)
+    (tmp_path / "m.urdf").write_text(_FEATURES_URDF)
+    with pytest.warns(UserWarning, match="disable_added_mass: the plugin's added mass is left out"):
+        sdf = uvms.load_model(tmp_path / "m.sdf")
+    urdf = uvms.load_model(tmp_path / "m.urdf", frame="enu")
+    assert sdf.joint_names == urdf.joint_names == ("slide",) and sdf.joint_type == urdf.joint_type
+    for field in ("mass", "com", "inertia_com", "joint_position", "joint_rotation", "joint_axis", "joint_limits"):
+        np.testing.assert_allclose(np.asarray(getattr(sdf, field), dtype=float),
+                                   np.asarray(getattr(urdf, field), dtype=float), rtol=0, atol=1e-15, err_msg=field)
+    assert sdf.mass[0] == 53.0
+    assert sdf.density == 1025.0 and sdf.buoyancy_mass[0] == 0.0          # no Buoyancy system: none, as gz-sim
+    np.testing.assert_array_equal(sdf.current, [0.2, -0.1, 0.05])
+    assert sdf.damping_linear[0][3, 3] == 5.0 and not np.any(sdf.added_mass)
+
+
+def test_a_world_files_gravity_is_read_in_either_frame(tmp_path):
+    """The world's ``<gravity>`` (z up in SDF) becomes the model's, turned by the half turn when the file is read
+    in the ``ned`` convention (``frame=``)."""
+    (tmp_path / "w.sdf").write_text(fx.sdf().replace("<gravity>0 0 -9.81</gravity>", "<gravity>0.1 0.2 -9.7</gravity>"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        enu, ned = uvms.load_model(tmp_path / "w.sdf"), uvms.load_model(tmp_path / "w.sdf", frame="ned")
+    np.testing.assert_array_equal(enu.gravity, [0.1, 0.2, -9.7])
+    np.testing.assert_array_equal(ned.gravity, [0.1, -0.2, 9.7])
+
+
+def test_buoyancy_of_sphere_cylinder_and_ellipsoid_collisions(tmp_path):
+    """gz-sim's Buoyancy system (``uniform_fluid_density``): rho times each collision's volume, written out here
+    (sphere 4/3 pi r^3, cylinder pi r^2 L, ellipsoid 4/3 pi a b c), at the volumes' centre; a mesh collision is
+    not mapped (named in the warning)."""
+    rho = 1020.0
+    shapes = [("sphere", "<radius>0.2</radius>", (0.3, 0.0, 0.1), 4.0 / 3.0 * math.pi * 0.2 ** 3),
+              ("cylinder", "<radius>0.1</radius><length>0.8</length>", (-0.2, 0.1, 0.0), math.pi * 0.1 ** 2 * 0.8),
+              ("ellipsoid", "<radii>0.3 0.2 0.1</radii>", (0.0, -0.1, -0.05), 4.0 / 3.0 * math.pi * 0.3 * 0.2 * 0.1)]
+    collisions = "".join(f'<collision name="{k}"><pose>{x} {y} {z} 0 0.3 0</pose><geometry><{k}>{size}</{k}>'
+                         f'</geometry></collision>' for k, size, (x, y, z), _ in shapes)
+    collisions += '<collision name="m"><geometry><mesh><uri>hull.dae</uri></mesh></geometry></collision>'
+    (tmp_path / "b.sdf").write_text(
+        f'<sdf version="1.9"><world name="w"><plugin filename="gz-sim-buoyancy-system" '
+        f'name="gz::sim::systems::Buoyancy"><uniform_fluid_density>{rho!r}</uniform_fluid_density></plugin>'
+        f'<model name="b"><link name="base"><inertial><mass>40</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz>'
+        f'</inertia></inertial>{collisions}</link></model></world></sdf>')
+    with pytest.warns(UserWarning, match="mesh"):
+        model = uvms.load_model(tmp_path / "b.sdf")
+    volumes = np.array([v for *_, v in shapes])
+    centres = np.array([c for _, _, c, _ in shapes])
+    assert model.buoyancy_mass[0] == pytest.approx(rho * volumes.sum(), rel=1e-12)
+    np.testing.assert_allclose(model.cob[0], volumes @ centres / volumes.sum(), rtol=0, atol=1e-12)
+
+
+def test_disable_coriolis_is_reported_not_applied(tmp_path):
+    """``disable_coriolis`` cannot be honoured (uvms's added mass brings its Coriolis force with it): the added
+    mass is kept and the warning says so."""
+    (tmp_path / "m.sdf").write_text(_FEATURES_SDF.replace("<disable_added_mass>true</disable_added_mass>",
+                                                          "<disable_coriolis>true</disable_coriolis>"))
+    with pytest.warns(UserWarning, match="disable_coriolis not mapped"):
+        model = uvms.load_model(tmp_path / "m.sdf")
+    assert model.added_mass[0][3, 3] == 7.0

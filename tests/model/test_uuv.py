@@ -245,3 +245,122 @@ def test_uuv_cylinder_takes_its_size_from_the_link_box(tmp_path):
         a, b = uvms.load_model(tmp_path / "a.urdf"), uvms.load_model(tmp_path / "b.urdf")
     np.testing.assert_array_equal(a.added_mass, b.added_mass)
     assert a.added_mass[0][4, 4] < 0.1 * a.added_mass[0][3, 3]      # little along the axis (y), much across
+
+
+def _plugin_robot(links: str, plugin: str, extra: str = "") -> str:
+    return (f'<robot name="r">{links}<gazebo><plugin name="u" filename="libuuv_underwater_object_ros_plugin.so">'
+            f'<fluid_density>1000</fluid_density>{plugin}</plugin></gazebo>{extra}</robot>')
+
+
+_BASE = ('<link name="base"><inertial><mass value="100"/><inertia ixx="4" ixy="0" ixz="0" iyy="4" iyz="0" '
+         'izz="4"/></inertial></link>')
+
+
+def test_a_neutrally_buoyant_link_displaces_its_mass_with_the_links_fixed_to_it(tmp_path):
+    """``neutrally_buoyant`` (``BuoyantObject``: volume = mass / rho): the vehicle's 100 kg and the 5 kg of a
+    link fixed to it (Gazebo lumps fixed links into one), not the 1 g of a thruster on a spin joint; the
+    ``volume`` tag beside it does not count, the centre of buoyancy is the tag's."""
+    links = (_BASE + '<joint name="fix" type="fixed"><parent link="base"/><child link="ballast"/>'
+             '<origin xyz="0 0 -0.2"/></joint><link name="ballast"><inertial><mass value="5"/><inertia ixx="0.01" '
+             'ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>'
+             '<joint name="spin" type="continuous"><parent link="base"/><child link="prop"/><axis xyz="1 0 0"/>'
+             '</joint><link name="prop"><inertial><mass value="0.001"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" '
+             'iyz="0" izz="0"/></inertial></link>')
+    plugin = ('<link name="base"><neutrally_buoyant>1</neutrally_buoyant><volume>0.5</volume>'
+              '<center_of_buoyancy>0 0 0.05</center_of_buoyancy></link>')
+    (tmp_path / "n.urdf").write_text(_plugin_robot(links, plugin))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = uvms.load_model(tmp_path / "n.urdf")
+    assert model.buoyancy_mass[0] == pytest.approx(105.0, rel=1e-15)
+    np.testing.assert_allclose(model.cob[0], [0.0, 0.0, 0.05], rtol=0, atol=1e-15)
+    assert dict(model.hydro_sources)["base: buoyancy"] == "neutrally_buoyant"
+
+
+def test_uuv_spheroid_model_has_lambs_added_mass(tmp_path):
+    """``hydrodynamic_model`` ``spheroid`` (``radius`` b, ``length`` 2a along the link's x axis): the added mass
+    of a prolate spheroid in potential flow written out here from Lamb's closed form (Lamb, Hydrodynamics,
+    1932, sec. 373; Newman 1977, sec. 4.13): ``k1 = alpha0 / (2 - alpha0)``, ``k2 = beta0 / (2 - beta0)``,
+    ``k' = e^4 (beta0 - alpha0) / ((2 - e^2) (2 e^2 - (2 - e^2)(beta0 - alpha0)))`` with the eccentricity e."""
+    a, b, rho = 0.8, 0.2, 1000.0
+    plugin = (f'<link name="base"><volume>0.1</volume><hydrodynamic_model><type>spheroid</type><radius>{b!r}</radius>'
+              f'<length>{2 * a!r}</length><cd>0.5</cd></hydrodynamic_model></link>')
+    (tmp_path / "s.urdf").write_text(_plugin_robot(_BASE, plugin))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = uvms.load_model(tmp_path / "s.urdf")
+    e = np.sqrt(1.0 - (b / a) ** 2)
+    L = np.log((1.0 + e) / (1.0 - e))
+    alpha0 = 2.0 * (1.0 - e * e) / e ** 3 * (0.5 * L - e)
+    beta0 = 1.0 / (e * e) - (1.0 - e * e) / (2.0 * e ** 3) * L
+    k1, k2 = alpha0 / (2.0 - alpha0), beta0 / (2.0 - beta0)
+    kp = e ** 4 * (beta0 - alpha0) / ((2.0 - e * e) * (2.0 * e * e - (2.0 - e * e) * (beta0 - alpha0)))
+    m = rho * 4.0 / 3.0 * np.pi * a * b * b
+    turn = kp * m * (a * a + b * b) / 5.0
+    np.testing.assert_allclose(model.added_mass[0], np.diag([0.0, turn, turn, k1 * m, k2 * m, k2 * m]),
+                               rtol=1e-9, atol=1e-9 * m)
+    assert model.buoyancy_mass[0] == pytest.approx(100.0, rel=1e-15)     # the volume tag: 0.1 m^3
+    assert dict(model.hydro_sources)["base: added mass"] == "hydrodynamic_model/type spheroid (uvms shape)"
+
+
+def _thruster_robot(dynamics: str, conversion: str, limits: str = "") -> str:
+    links = (_BASE + '<joint name="tj" type="continuous"><parent link="base"/><child link="t"/>'
+             '<origin xyz="-0.4 0.1 0" rpy="0 0 1.5707963267948966"/><axis xyz="1 0 0"/></joint>'
+             '<link name="t"><inertial><mass value="0.001"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" '
+             'izz="0"/></inertial></link>')
+    thruster = ('<gazebo><plugin name="t0" filename="libuuv_thruster_ros_plugin.so"><linkName>t</linkName>'
+                f'<jointName>tj</jointName><thrusterID>3</thrusterID>{limits}<dynamics>{dynamics}</dynamics>'
+                f'<conversion>{conversion}</conversion></plugin></gazebo>')
+    return _plugin_robot(links, '<link name="base"><volume>0.1</volume></link>', thruster)
+
+
+def test_first_order_thruster_with_a_linear_interp_table(tmp_path):
+    """``FirstOrder`` (``timeConstant``) with a ``LinearInterp`` table: a uvms ``first_order`` thruster with
+    that time constant, along the spin joint's axis (turned 90 deg about z: +y) at its link's origin, limited
+    by the table at the clamps (``clampMax`` 150 -> 30 N, ``clampMin`` -150 -> -20 N: the smaller, 20 N); the
+    lag of a table is applied as UUV does, so only the asymmetric limits are noted."""
+    table = ("<type>LinearInterp</type><inputValues>-200 -100 0 100 200</inputValues>"
+             "<outputValues>-30 -10 0 20 40</outputValues>")
+    text = _thruster_robot("<type>FirstOrder</type><timeConstant>0.25</timeConstant>", table,
+                           "<clampMin>-150</clampMin><clampMax>150</clampMax>")
+    (tmp_path / "t.urdf").write_text(text)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = uvms.load_model(tmp_path / "t.urdf")
+    (t,) = model.thrusters
+    assert t.name == "thruster_3" and t.model == "first_order"
+    assert t.parameters.time_constant == 0.25 and t.parameters.max_thrust == pytest.approx(20.0, rel=1e-15)
+    np.testing.assert_allclose(t.position, [-0.4, 0.1, 0.0], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(t.direction, [0.0, 1.0, 0.0], rtol=0, atol=1e-15)
+    text = " ".join(str(w.message) for w in caught)
+    assert "limits 30 N forward, 20 N reverse" in text and "FirstOrder lag applied to the thrust" not in text
+
+
+def test_first_order_thruster_with_a_basic_conversion_is_noted(tmp_path):
+    text = _thruster_robot("<type>FirstOrder</type><timeConstant>0.1</timeConstant>",
+                           "<type>Basic</type><rotorConstant>0.001</rotorConstant>",
+                           "<clampMin>-100</clampMin><clampMax>100</clampMax>")
+    (tmp_path / "t.urdf").write_text(text)
+    with pytest.warns(UserWarning, match="FirstOrder lag applied to the thrust"):
+        model = uvms.load_model(tmp_path / "t.urdf")
+    assert model.thrusters[0].parameters.max_thrust == pytest.approx(0.001 * 100.0 ** 2, rel=1e-15)
+
+
+@pytest.mark.parametrize("dynamics, conversion, message", [
+    ("<type>Yoerger</type>", "<type>Basic</type><rotorConstant>0.001</rotorConstant>",
+     "dynamics type ZeroOrder or FirstOrder, found 'Yoerger' (not mapped)"),
+    ("<type>ZeroOrder</type>", "<type>Bessa</type><rotorConstantL>0.001</rotorConstantL>",
+     "conversion type Basic or LinearInterp, found 'Bessa' (not mapped)"),
+    ("<type>FirstOrder</type>", "<type>Basic</type><rotorConstant>0.001</rotorConstant>", "<timeConstant> > 0"),
+    ("<type>ZeroOrder</type>", "<type>LinearInterp</type><inputValues>0 1</inputValues><outputValues>0</outputValues>",
+     "as many inputValues as outputValues"),
+])
+def test_thrusters_uvms_cannot_map_are_refused_in_one_line(tmp_path, capsys, dynamics, conversion, message):
+    """A thruster whose dynamics or conversion uvms does not have is refused by the CLI (exit 2, one line naming
+    the file and the plugin): a vehicle missing a thruster would fly differently without saying so."""
+    from uvms.cli import main
+
+    (tmp_path / "t.urdf").write_text(_thruster_robot(dynamics, conversion))
+    assert main(["validate", str(tmp_path / "t.urdf")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err and "t.urdf" in err and "Traceback" not in err

@@ -59,3 +59,60 @@ def test_the_left_out_trials_did_lose_tracking():
         attitude = np.degrees(log.attitude(t).to_numpy()[:, :2])
         assert np.max(np.abs(np.diff(attitude, axis=0))) / 0.04 > 500.0, name
     assert re.search(r"traj007-1.*traj016-1.*traj019-0", DOC.read_text(encoding="utf-8"), re.S)
+
+
+def _prose() -> str:
+    return " ".join(DOC.read_text(encoding="utf-8").split())
+
+
+def test_the_figures_in_the_prose_are_these(scores):
+    """The sentences under the table repeat its medians and counts: they are these figures too."""
+    published, fitted = scores
+
+    def median(values) -> str:
+        return f"{np.median(values):.2f}"
+
+    authors_pitch, authors_roll = median([s.authors_pitch for s in fitted]), median([s.authors_roll for s in fitted])
+    text = _prose()
+    assert (f"median RMSE of **{median([s.pitch for s in fitted])} deg in pitch and "
+            f"{median([s.roll for s in fitted])} deg in roll** against the motion capture, against {authors_pitch} "
+            f"and {authors_roll} deg for the authors' own simulation and {median([s.held_pitch for s in fitted])} "
+            f"and {median([s.held_roll for s in fitted])} deg for holding the start attitude") in text
+    pitch_alone = sum(s.pitch < s.authors_pitch for s in fitted)
+    roll_alone = sum(s.roll < s.authors_roll for s in fitted)
+    assert (f"is below the authors' on **{sum(s.beats_authors for s in fitted)} of {len(fitted)}** trials (pitch "
+            f"alone on {pitch_alone}, roll alone on {roll_alone})") in text
+    assert (f"median pitch {median([s.pitch for s in published])} deg against their {authors_pitch}, roll "
+            f"{median([s.roll for s in published])} against {authors_roll}") in text
+
+
+def test_the_fit_figures_in_the_prose_are_its_record():
+    """"What the fit says" quotes the bundled fit's record: the counts, each value and its inflated std."""
+    record = yaml.safe_load(Path(uvms.load_model("hinsdale_bluerov2_alpha5_fit").source).read_text())[
+        "identified"]["record"]
+    p = record["parameters"]
+    text = _prose()
+
+    def entry(name):
+        return p[name]["initial"], p[name]["value"], p[name]["std"]
+
+    assert (f"({len(record['fitted_on'])} `traj*` trials, {len(p)} parameters, {record['evaluations']} evaluations, "
+            f"{record['wall_time_s']:.0f} s on the 2-core machine") in text
+    i, v, s = entry("damping.linear.roll")
+    assert f"`damping.linear.roll` {i:.2f} -> {v:.2f} +/- {s:.2f}" in text
+    i, v, s = entry("damping.linear.pitch")
+    assert f"`pitch` {i:.2f} -> {v:.2f} +/- {s:.2f} N m s/rad" in text
+    assert sorted(record["at_bound"]) == ["damping.quadratic.pitch", "damping.quadratic.roll"]
+    assert all(p[n]["bounds"][0] == 0.0 for n in record["at_bound"]) and "the quadratic ones to their lower bound 0" in text
+    i, v, s = entry("damping.linear.surge")
+    assert f"`surge` {i:.2f} -> {v:.0f} +/- {s:.0f}" in text
+    i, v, s = entry("damping.linear.sway")
+    assert f"`sway` {i:.2f} -> {v:.0f} +/- {float(f'{s:.2g}'):.0f} N s/m" in text
+    i, v, s = entry("cob.z")
+    assert f"rises by {1000 * (v - i):.1f} mm (`cob.z` {1000 * i:.1f} -> {1000 * v:.2f} +/- {1000 * s:.2f} mm" in text
+    assert all(abs(p[n]["value"] - p[n]["initial"]) < 0.15e-3 for n in ("cob.x", "cob.y")) \
+        and "`cob.x` and `cob.y` move by 0.1 mm" in text
+    (_, vr, sr), (_, vp, sp) = entry("added_mass.roll"), entry("added_mass.pitch")
+    assert f"gains {vr:.2f} +/- {sr:.2f} (roll) and {vp:.2f} +/- {sp:.2f} (pitch) kg m^2" in text
+    ratios = {round(q["std"] / q["std_white"], 6) for q in p.values()}
+    assert len(ratios) == 1 and f"are {ratios.pop():.1f} times smaller" in text

@@ -89,6 +89,20 @@ def test_bad_logs_exit_2_and_write_nothing(own_log, tmp_path, capsys, edit, mess
     assert not out.exists()
 
 
+@pytest.mark.parametrize("options, message", [
+    (["--step", "0"], "--step: expected a positive, finite number [s], got 0.0"),
+    (["--step", "nan"], "--step: expected a positive, finite number [s], got nan"),
+    (["--grid", "0"], "--grid: expected a positive, finite number [s], got 0.0"),
+    (["--grid", "100"], "duration: grid step: expected a number in (0, 7.5] s (the log's duration), found 100.0"),
+])
+def test_bad_step_or_grid_exit_2_and_write_nothing(own_log, tmp_path, capsys, options, message):
+    out = tmp_path / "rp"
+    assert main(["replay", "paper", str(own_log[1]), "-o", str(out), *options]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
 def test_the_default_folder_is_named_after_the_log_but_never_chosen_by_it(own_log, tmp_path, monkeypatch):
     path = own_log[1]
     monkeypatch.chdir(tmp_path)

@@ -331,3 +331,21 @@ def test_the_bundled_six_axis_hold_stays_healthy():
     h = run_scenario(load_scenario("bluerov2_heavy_alpha5_hold6")).health()
     assert h.healthy and h.warning == ""
     assert h.station_departure < 1e-3 and h.unproduced_share_force < 1e-9 and h.unproduced_share_moment < 1e-9
+
+
+def test_a_command_of_rounding_size_is_not_unproduced_many_times_over():
+    """A vehicle resting at its set point commands a moment of rounding size (3e-17 N m) that the allocation's
+    projection leaves unproduced at the same size (4e-16 N m): none of it counts (``UNPRODUCED_FLOOR``), where
+    the bare ratio said 1300 % and made every such station-keeping run unhealthy. A real shortfall still counts."""
+    from uvms.sim.health import UNPRODUCED_FLOOR, unproduced_share
+
+    weights = np.full(4, 0.01)
+    commanded = np.array([[3e-17, -1e-17, 2e-17]] * 4)
+    rounding = np.array([[4e-16, 0.0, -1e-16]] * 4)
+    assert np.sum(np.linalg.norm(rounding, axis=1)) / np.sum(np.linalg.norm(commanded, axis=1)) > 10.0
+    assert unproduced_share(commanded, rounding, weights) == 0.0
+    real = np.array([[0.0, 0.0, 2.0]] * 4)
+    assert unproduced_share(np.array([[0.0, 0.0, 4.0]] * 4), real, weights) == pytest.approx(0.5, rel=1e-15)
+    just_above = np.array([[0.0, 0.0, 2.0 * UNPRODUCED_FLOOR]] * 4)
+    assert unproduced_share(np.array([[0.0, 0.0, 4.0 * UNPRODUCED_FLOOR]] * 4), just_above, weights) == \
+        pytest.approx(0.5, rel=1e-12)

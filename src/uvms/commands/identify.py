@@ -66,6 +66,13 @@ def run(args: argparse.Namespace) -> int:
     from uvms.output import check_file_output, default_file_name
     from uvms.replays import plan
 
+    from uvms import checks
+
+    for flag, value in (("--max-evaluations", args.max_evaluations), ("--threads", args.threads)):
+        if value is not None and value < 1:
+            raise UvmsInputError(f"expected a whole number >= 1, got {value}", None, flag)
+    if args.step is not None:
+        checks.number(args.step, "--step", positive=True, unit="s")
     model = load_model(args.model)
     fit_names = [p for p in (s.strip() for s in args.fit.split(",")) if p]
     for text in fit_names:

@@ -49,6 +49,11 @@ def run(args: argparse.Namespace) -> int:
     from uvms.model.load import load_model
     from uvms.output import check_output_folder, default_file_name
 
+    from uvms import checks
+
+    for flag, value in (("--step", args.step), ("--grid", args.grid)):
+        if value is not None:
+            checks.number(value, flag, positive=True, unit="s")
     paths = resolve_logs(args.log)
     if len(paths) != 1:
         raise UvmsInputError(f"names {len(paths)} logs; replay takes one (uvms identify takes several)", args.log)

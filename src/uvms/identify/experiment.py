@@ -99,6 +99,10 @@ class Experiment:
     actuation: Any = None
 
     def __post_init__(self) -> None:
+        from uvms import checks
+
+        object.__setattr__(self, "step", checks.number(self.step, "step", positive=True, unit="s"))
+        object.__setattr__(self, "duration", checks.number(self.duration, "duration", positive=True, unit="s"))
         times = np.asarray(self.times, dtype=float)
         if times.ndim != 1 or times.size < 2 or np.any(np.diff(times) <= 0) or not np.all(np.isfinite(times)):
             raise UvmsInputError(f"experiment {self.name!r}: expected at least two increasing finite measurement "

@@ -254,6 +254,7 @@ def identify(model, experiments: Sequence[Experiment], parameters: Sequence[str]
     wall0 = _time.perf_counter()
     options = replace(options or FitOptions(), **keywords)
     signals, bounds, threads = tuple(options.signals), options.bounds, options.threads
+    _check_options(options)
     experiments, held_out = list(experiments), list(held_out)
     if not experiments:
         raise UvmsInputError("identify: expected at least one experiment to fit")
@@ -362,6 +363,22 @@ def identify(model, experiments: Sequence[Experiment], parameters: Sequence[str]
     from dataclasses import replace as replace_dataclass
 
     return replace_dataclass(result.in_frame(own, frame), model=fitted.in_frame(own))
+
+
+LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
+"""The losses of ``scipy.optimize.least_squares``."""
+
+
+def _check_options(options: FitOptions) -> None:
+    """One line for options ``least_squares`` or the thread pool would refuse with a traceback."""
+    from uvms import checks
+    from uvms.sim.batch import MAX_THREADS
+
+    checks.count(options.max_evaluations, "max_evaluations", minimum=1)
+    if options.threads is not None and checks.count(options.threads, "threads", minimum=1) > MAX_THREADS:
+        raise checks.fail("threads", f"expected at most {MAX_THREADS} threads, got {options.threads}")
+    if options.loss not in LOSSES:
+        raise UvmsInputError(f"expected one of {', '.join(LOSSES)}, got {options.loss!r}", path="loss")
 
 
 def _ar1_factor(r: np.ndarray, pieces: int) -> float:

@@ -32,7 +32,9 @@ gz-sim's ``Hydrodynamics.cc``, ``HydrodynamicsUtils.hh``, ``Thruster.cc``, ``Buo
 * **Thruster system** (``joint_name``): the thrust acts along the joint's axis at its child link's origin; it
   is an ``ideal`` uvms thruster limited by ``max_thrust_cmd`` / ``min_thrust_cmd`` (default +/-1000 N; the smaller
   magnitude); ``thrust_coefficient``, ``propeller_diameter``, ``fluid_density``, ``wake_fraction``, ``alpha_1``,
-  ``alpha_2`` only turn the thrust into a propeller speed, which uvms does not need (read, not used).
+  ``alpha_2`` only turn the thrust into a propeller speed, which uvms does not need (read, not used); a thruster
+  with ``use_angvel_cmd`` true (commanded by the propeller's angular velocity in gz-sim) is noted in the warning:
+  uvms's command is the thrust.
 * **Buoyancy system** (``gz-sim-buoyancy-system``, world): ``uniform_fluid_density`` times the volume of each
   link's box, sphere, cylinder and ellipsoid collisions at their volume centre (meshes, capsules and cones and
   ``graded_buoyancy`` are not mapped, reported). The world's ``<gravity>`` is read.
@@ -423,6 +425,9 @@ def _thruster(plugin, tags: PluginTags, source: str) -> None:
     limit = min(abs(high), abs(low))
     if abs(high) != abs(low):
         tags.notes.append(f"thruster {joint}: limits {high:g} N, {low:g} N; uvms uses +/-{limit:g} N")
+    if (plugin.findtext("use_angvel_cmd") or "").strip().lower() in ("1", "true"):
+        tags.notes.append(f"thruster {joint}: use_angvel_cmd: gz-sim commands it by the propeller's angular velocity "
+                          "(thrust = thrust_coefficient rho D^4 omega |omega|), uvms by the thrust [N]")
     known = {"joint_name", "thrust_coefficient", "propeller_diameter", "fluid_density", "wake_fraction", "alpha_1",
              "alpha_2", "max_thrust_cmd", "min_thrust_cmd", "namespace", "topic", "use_angvel_cmd"}
     tags.ignored.extend(f"Thruster/{c.tag}" for c in plugin if c.tag not in known)

@@ -17,7 +17,9 @@ their limits while the controller asked for more. :func:`run_health` reads that 
 - ``unproduced_share_force`` / ``unproduced_share_moment``: the share of the commanded force (moment) that the
   thrusters did not produce, ``sum_k w_k |u_k| / sum_k w_k |c_k|`` over the samples, with ``c`` the force
   (moment) part of the commanded wrench (logged ``command_<K..Z>``) and ``u`` that of the wrench not produced
-  (``unachieved_<K..Z>``). Without a thrust limit reached, ``u`` is the component of ``c`` outside the range of
+  (``unachieved_<K..Z>``); a ``|u_k|`` of at most :data:`UNPRODUCED_FLOOR` (the rounding of the allocation's
+  arithmetic) counts as produced, so that a command of rounding size (a vehicle resting at its set point) is not
+  "unproduced" many times over. Without a thrust limit reached, ``u`` is the component of ``c`` outside the range of
   the layout's matrix ``Lambda`` (:func:`uvms.thrusters.allocation.unachievable_part`); with limits, the
   residual of the bounded least-squares allocation. A layout with no sway thruster and a pure sway command:
   1 (100 %); a pure surge command: 0. ``None`` without thrusters (ideal actuation) or without a controller.
@@ -44,6 +46,9 @@ import numpy as np
 
 WRENCH_LABELS = ("K", "M", "N", "X", "Y", "Z")
 """Components of the body wrench ``[moment; force]`` (docs/conventions.md)."""
+UNPRODUCED_FLOOR = 1e-9
+"""Largest unproduced force [N] or moment [N m] of a sample that counts as produced: the allocation's rounding
+(a least-squares projection leaves ``|u| ~ 1e-16`` of a command of rounding size), far below any thrust."""
 SATURATION_TOLERANCE = 1e-6
 """A thrust within this fraction of its limit range ``upper - lower`` of a limit counts as saturated."""
 
@@ -159,12 +164,15 @@ def station_departure(time: np.ndarray, errors: np.ndarray, changes=(), toleranc
 def unproduced_share(commanded: np.ndarray, unproduced: np.ndarray, weights: np.ndarray) -> float:
     """``sum_k w_k |u_k| / sum_k w_k |c_k|``: the share of the commanded vectors ``c`` ((K, 3) forces or moments)
     that was not produced (``u``, (K, 3)), each sample weighted by ``weights`` (zero-order hold); rows with a NaN
-    count for nothing; 0 when nothing was commanded."""
+    count for nothing; a ``|u_k|`` of at most :data:`UNPRODUCED_FLOOR` counts as produced; 0 when nothing was
+    commanded."""
     c, u = np.asarray(commanded, dtype=float), np.asarray(unproduced, dtype=float)
     ok = np.all(np.isfinite(c), axis=1) & np.all(np.isfinite(u), axis=1)
     w = np.asarray(weights, dtype=float)[ok]
     total = float(np.sum(w * np.linalg.norm(c[ok], axis=1)))
-    return float(np.sum(w * np.linalg.norm(u[ok], axis=1)) / total) if total > 0 else 0.0
+    missing = np.linalg.norm(u[ok], axis=1)
+    missing = np.where(missing <= UNPRODUCED_FLOOR, 0.0, missing)
+    return float(np.sum(w * missing) / total) if total > 0 else 0.0
 
 
 def set_point_metadata(plan) -> dict[str, Any]:
