@@ -64,3 +64,17 @@ def test_hostile_sdf_through_a_fresh_process(tmp_path):
     run = subprocess.run([sys.executable, "-m", "uvms", "validate", "laughs.sdf"], cwd=tmp_path, env=env,
                          capture_output=True, text=True, timeout=120)
     assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1 and "DTD or entity" in run.stderr
+
+
+@pytest.mark.parametrize("name", sorted(FILES))
+def test_hostile_file_refused_before_the_kernels_are_imported(tmp_path, name):
+    """A fresh ``uvms validate`` refuses a hostile file before it imports numba (the compiled kernels' import
+    costs most of a fresh process's second): the refusal's time is the loader's imports and the parse alone."""
+    (tmp_path / name).write_text(FILES[name])
+    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    script = ("import sys; from uvms.cli import main; code = main(['validate', sys.argv[1]]); "
+              "print(code, 'numba' in sys.modules)")
+    run = subprocess.run([sys.executable, "-c", script, name], cwd=tmp_path, env=env, capture_output=True,
+                         text=True, timeout=120)
+    assert run.stdout.split() == ["2", "False"], run.stdout + run.stderr
+    assert not (tmp_path / "PWNED").exists()

@@ -26,13 +26,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Load the model (errors surface as one-line :class:`~uvms.errors.UvmsInputError`), summarise and report."""
-    from uvms.analysis.report import end_effector_name, model_report
+    """Load the model (errors surface as one-line :class:`~uvms.errors.UvmsInputError`), summarise and report.
+
+    The model is loaded before the report's modules are imported (they bring the compiled kernels): a bad or
+    hostile file is refused after the loader's imports only (tests/model/test_gazebo_security.py)."""
     from uvms.model import load_model
 
+    model = load_model(args.model, frame=getattr(args, "frame", None))
+
+    from uvms.analysis.report import end_effector_name, model_report
     from uvms.frames import VEHICLE_AXES
 
-    model = load_model(args.model, frame=getattr(args, "frame", None))
     report = model_report(model, q=q_option(model, args.q))
     if args.json:
         import json

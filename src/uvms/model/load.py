@@ -16,7 +16,6 @@ from pydantic import BaseModel, ValidationError
 from uvms import schema_base
 from uvms.bundled import bundled_names, resolve_path
 from uvms.errors import UvmsInputError
-from uvms.model.build import build_model, build_urdf_model
 from uvms.model.model import Model
 from uvms.model.schema import UNION_TAGS, ModelSpec, UrdfModelSpec
 from uvms.safe_yaml import read_yaml, read_yaml_mapping  # noqa: F401  (read_yaml re-exported)
@@ -158,6 +157,7 @@ def _load_model_file(name_or_path, options: dict | None = None) -> tuple[Model, 
 
 
 def _built(spec, source, options: dict | None) -> tuple[Model, tuple]:
+    from uvms.model.build import build_model, build_urdf_model  # brings the kernels: only once a file has parsed
     from uvms.model.urdf import is_robot_description
 
     try:

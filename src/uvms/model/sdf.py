@@ -52,7 +52,6 @@ import numpy as np
 
 from uvms.errors import UvmsInputError
 from uvms.model.gazebo import LinkTags, PluginTags, ThrusterTags
-from uvms.rotations import rotation_from_euler, rotation_from_quaternion
 
 MAX_SDF_BYTES = 16 * 1024 * 1024
 """Largest ``.sdf`` file read [bytes] (checked before reading)."""
@@ -117,6 +116,8 @@ def _scalar(parent, tag: str, default: float, source: str, where: str) -> float:
 
 def _pose_of(element, source: str, where: str) -> tuple[np.ndarray, np.ndarray, str | None]:
     """``(R, p, relative_to)`` of an element's ``<pose>`` (identity when absent)."""
+    from uvms.rotations import rotation_from_euler, rotation_from_quaternion  # numba: not before the file parsed
+
     pose = element.find("pose")
     if pose is None:
         return np.eye(3), np.zeros(3), None
