@@ -201,3 +201,13 @@ def test_measured_feedback_without_the_sensors_it_needs_is_one_line(model):
     assert error.value.path == "controller.parameters.feedback"
     with pytest.raises(UvmsInputError, match="feedback"):
         make_controller("pid", model, parameters={"feedback": "estimated"})
+
+
+def test_sampling_past_the_errors_drawn_for_the_run_raises(model):
+    """The errors are drawn for ``n_total`` steps; a sample past them is refused, not read out of bounds."""
+    result = _true_run(model, duration=0.02, sensors=_sensors(noisy=True))
+    s = sensing_data(_sensors(noisy=True), model, result.states[0], h=H, n_total=20)
+    x = np.ascontiguousarray(result.states[-1])
+    sense(s, x, 20)
+    with pytest.raises(ValueError, match="exhausted"):
+        sense(s, x, 30)

@@ -129,7 +129,13 @@ def sensing_data(sensors, model, x0: np.ndarray, *, h: float, n_total: int, surf
     for slot, kind in enumerate(("imu", "pressure", "dvl", "encoders")):
         if kind in first:
             every[slot] = max(1, int(round(1.0 / (first[kind].rate * h))))
-    counts = [int(n_total) // max(int(k), 1) + 1 for k in every]
+    counts = [int(n_total) // int(k) + 1 if k > 0 else 0 for k in every]
+    from uvms.checks import MAX_RECORDED_VALUES
+
+    if 3 * sum(counts) > MAX_RECORDED_VALUES:        # the errors are drawn before the run: bound them
+        raise UvmsInputError(f"expected at most {MAX_RECORDED_VALUES // 3:.3g} sensor samples for measured feedback "
+                             f"(their errors are drawn before the run), found {sum(counts):.3g}: a shorter run or "
+                             f"slower sensors", path="duration")
     imu, pressure, dvl = first["imu"], first["pressure"], first["dvl"]
     gyro = imu.errors(counts[IMU]).get("gyro") if not imu.gyro.is_zero else None
     p_noise = pressure.errors(counts[PRESSURE]).get("pressure")
@@ -212,10 +218,17 @@ def next_sample(s, done, nxt):
 @kernel
 def sense(s, x, done):
     """The samples at step ``done`` of the true state ``x`` and the estimator's update (module docstring) into
-    ``s.x_hat``. Call before the step's arm and controller updates; a step where no sensor samples is a no-op."""
+    ``s.x_hat``. Call before the step's arm and controller updates; a step where no sensor samples is a no-op.
+    Raises past the end of the errors drawn for the run (:func:`sensing_data`'s ``n_total`` steps)."""
     if not sample_due(s, done):
         return
     every = s.every
+    if ((s.gyro_noisy and done // max(every[IMU], 1) >= s.gyro_noise.shape[0])
+            or (s.pressure_noisy and done // max(every[PRESSURE], 1) >= s.pressure_noise.shape[0])
+            or (s.dvl_noisy and done // max(every[DVL], 1) >= s.dvl_noise.shape[0])
+            or (s.dvl_dropping and done // max(every[DVL], 1) >= s.dvl_draws.shape[0])):
+        raise ValueError("the sensors' pre-drawn errors are exhausted (the run is longer than its sensing was "
+                         "built for)")
     t = done * s.h
     first = s.started[0] == 0
     n = s.encoder_index.shape[0]
