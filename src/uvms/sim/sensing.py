@@ -7,6 +7,10 @@ recorded state, the body acceleration ``nu_dot`` of the plant's derivative at th
 over the step that follows the row (the row's joint torques and the actuator command of the controller update
 holding it: the same zero-order hold the integrator applied), and the water at the mount
 (:func:`uvms.hydro.flow.fluid_at`). ``docs/sensors.md``; ``docs/conventions.md``, "Sensors".
+
+:class:`LiveSensors` samples the same models during a run with its events in Python, for a Python controller's
+``Measurement.sensors`` (a bundled controller's ``feedback: measured`` samples them compiled:
+:mod:`uvms.control.estimator`).
 """
 
 from __future__ import annotations
