@@ -211,3 +211,34 @@ def test_sampling_past_the_errors_drawn_for_the_run_raises(model):
     sense(s, x, 20)
     with pytest.raises(ValueError, match="exhausted"):
         sense(s, x, 30)
+
+
+def _scenario_file(tmp_path, sensors):
+    import yaml
+
+    data = {"model": "paper", "duration": 0.1, "step": 0.001, "initial_state": {"position": [0, 0, 5.0]},
+            "controller": {"name": "pid", "period": 0.01, "parameters": {"feedback": "measured"}},
+            "outputs": {"record_period": 0.005}, "sensors": sensors}
+    path = tmp_path / "measured.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    return path
+
+
+def test_a_scenario_feeds_its_controller_measurements_and_a_missing_sensor_is_exit_2(tmp_path, capsys):
+    """The docs' scenario (``docs/sensors.md``): it runs; without its DVL one line names the field, exit 2."""
+    from uvms.cli import main
+    from uvms.sim.scenario import load_scenario, run_scenario
+
+    sensors = {"imu": {"kind": "imu", "rate": 200, "gyro": {"white": 3.0e-5, "bias_instability": 2.0e-5}},
+               "depth": {"kind": "pressure", "rate": 20, "noise": 100.0, "resolution": 10.0},
+               "dvl": {"kind": "dvl", "rate": 5, "noise": 0.01, "water_depth": 30.0, "max_altitude": 50.0,
+                       "dropout": 0.05},
+               "encoders": {"kind": "encoders", "rate": 100, "counts_per_turn": 4096}}
+    result = run_scenario(load_scenario(_scenario_file(tmp_path, sensors)))
+    assert result.complete
+    assert set(result.sensors) == set(sensors)
+    del sensors["dvl"]
+    assert main(["run", str(_scenario_file(tmp_path, sensors)), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith("uvms: error: controller.parameters.feedback: expected the run's sensors to include "
+                              "dvl"), err
