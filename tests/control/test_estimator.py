@@ -242,3 +242,29 @@ def test_a_scenario_feeds_its_controller_measurements_and_a_missing_sensor_is_ex
     err = capsys.readouterr().err.strip().splitlines()
     assert err[-1].startswith("uvms: error: controller.parameters.feedback: expected the run's sensors to include "
                               "dvl"), err
+
+
+def test_the_loop_with_events_in_python_feeds_the_same_measurements(model):
+    """A user's Python arm puts the run's events in Python (``uvms.sim.loop``); the compiled controller fed
+    noisy measurements there gives the rows of the compiled loop (the sensing is the same kernel, sampled in
+    ``event_start``)."""
+    from uvms.sim.compiled_loop import compilable
+    from uvms.sim.run import prepare
+
+    tau = np.linspace(1.0, -1.0, model.n_joints)
+
+    class PythonArm:
+        def __call__(self, t, state):
+            return tau
+
+    rows = []
+    for arm in (tau, PythonArm()):
+        controller = make_controller("pid", model, period=0.01, parameters={"feedback": "measured"})
+        kw = dict(duration=0.5, step=H, controller=controller, sensors=_sensors(noisy=True), joint_torques=arm,
+                  record_period=H)
+        assert compilable(prepare(model, _start(model), **kw)) is (arm is tau)
+        rows.append(uvms.simulate(model, _start(model), **kw))
+    np.testing.assert_allclose(rows[1].states, rows[0].states, rtol=1e-12, atol=1e-12)
+    truth = uvms.simulate(model, _start(model), duration=0.5, step=H, joint_torques=tau, record_period=H,
+                          controller=make_controller("pid", model, period=0.01))
+    assert np.max(np.abs(rows[0].position - truth.position)) > 1e-6          # the measurements did act
