@@ -42,7 +42,8 @@ from uvms.thrusters.command import allocate_command
 
 
 class Control(NamedTuple):
-    """The compiled controller, arm and allocation of a run, and their scratch."""
+    """The compiled controller, arm and allocation of a run, their scratch, and the sensing of a controller fed
+    measurements."""
 
     controller: tuple           # uvms.control.compiled.ControllerData
     arm: tuple                  # uvms.control.arm.ArmData
