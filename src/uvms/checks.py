@@ -57,7 +57,8 @@ def _state_class() -> type:
 MAX_RECORDED_VALUES = 2 * 10**8
 """Largest number of values a run allocates before it starts: its recorded state values (rows times state
 entries, 1.6 GB of float64), those of one :func:`uvms.rollout` batch in all, a noisy IMU's noise table
-(:mod:`uvms.control.imu`). A larger one is refused before anything is allocated."""
+(:mod:`uvms.sensors.body_acceleration`), the sensors' errors of a run fed to a controller
+(:mod:`uvms.sim.sensing`, :mod:`uvms.control.estimator`). A larger one is refused before anything is allocated."""
 
 _FLOAT64 = np.dtype(np.float64)
 _NUMERIC_KINDS = "iuf"

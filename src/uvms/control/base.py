@@ -27,17 +27,24 @@ class Measurement:
         nu_dot: (6,) the vehicle's true body acceleration ``[omega_dot; v_dot]`` at this instant (for IMU
             models; an honest controller never uses it directly). The simulator passes ``nu_dot_source``, a
             function evaluated only if a controller asks (one dynamics evaluation saved per update otherwise).
+        sensors: the latest reading of each simulated sensor of the run (``simulate(sensors=...)``, a scenario's
+            ``sensors:``), by sensor name: a :class:`uvms.sensors.Reading` whose ``values`` hold its channels
+            (``reading["gyro_z"]`` [rad/s]; ``accel_*`` [m/s^2], ``pressure`` [Pa], ``depth`` [m], ``bottom_*``,
+            ``water_*`` [m/s], ``bottom_valid`` (1/0), ``altitude`` [m], encoders' joints [rad or m]) and its
+            ``time`` [s], the sample's (at or before the update: each sensor samples at its own rate). Empty
+            without sensors. ``docs/sensors.md``, "Controllers fed measurements".
     """
 
-    __slots__ = ("time", "state", "joint_torques", "_nu_dot", "_nu_dot_source")
+    __slots__ = ("time", "state", "joint_torques", "sensors", "_nu_dot", "_nu_dot_source")
 
     def __init__(self, time: float, state: State, joint_torques: np.ndarray, nu_dot: np.ndarray | None = None,
-                 *, nu_dot_source: Callable[[], np.ndarray] | None = None) -> None:
+                 *, nu_dot_source: Callable[[], np.ndarray] | None = None, sensors: dict | None = None) -> None:
         if nu_dot is None and nu_dot_source is None:
             raise ValueError("Measurement needs nu_dot or nu_dot_source")
         self.time = time
         self.state = state
         self.joint_torques = joint_torques
+        self.sensors = {} if sensors is None else sensors
         self._nu_dot = None if nu_dot is None else np.asarray(nu_dot, dtype=float)
         self._nu_dot_source = nu_dot_source
 

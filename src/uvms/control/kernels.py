@@ -15,7 +15,7 @@ acceleration (``predictor``: ``AB``, ``VEHICLE``, ``NE``) are numbered in :mod:`
 
 The equations (errors, surfaces, Slotine's law, the PID's anti-windup, the IMU) are derived in
 :mod:`uvms.control.smc`, :mod:`uvms.control.sliding_kernels`, :mod:`uvms.control.pid`, :mod:`uvms.control.smc_ne`
-and :mod:`uvms.control.imu`; the controllers' Python classes build the data (``compiled(n_updates)``) and
+and :mod:`uvms.sensors.body_acceleration`; the controllers' Python classes build the data (``compiled(n_updates)``) and
 their ``update(measurement)`` calls :func:`controller_update`.
 """
 
@@ -27,7 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from uvms.control import sliding_kernels as sk
-from uvms.control.imu import ImuData, ImuParameters, imu_data, imu_measure
+from uvms.sensors.body_acceleration import ImuData, ImuParameters, imu_data, imu_measure
 from uvms.control.kinds import AB, NE, NONE, SLIDING
 from uvms.dynamics.blocks import cholesky_factor, cholesky_solve
 from uvms.dynamics.plant import ModelData, empty_model_data, fluid_table, forward_into, inverse_into, mass_matrix_into

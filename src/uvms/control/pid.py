@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uvms.control.registry import non_negative, number, optional, parameter, positive, register, vector
+from uvms.control.registry import choice, non_negative, number, optional, parameter, positive, register, vector
 from uvms.control.axes import PAPER_AXES, TRANSLATIONS, axis_list, expand, per_axis, slots, waypoint_rows
 from uvms.control.smc import PAPER_B_TRANSLATION, PAPER_B_YAW, CompiledController
 from uvms.errors import UvmsInputError
@@ -63,6 +63,9 @@ class PidParameters:
     desired_pitch: float = parameter(0.0, number, "pitch to hold [rad] (default: level)")
     waypoints: tuple[tuple[float, ...], ...] = parameter(
         (), waypoint_rows, "later set points: rows [t, x, y, z, roll, pitch, yaw], each held from its time t [s] on")
+    feedback: str = parameter("true_state", choice("true_state", "measured"),
+                              "true_state: the controller reads the true state; measured: the state estimated from "
+                              "the run's sensors (an IMU, a pressure sensor, a DVL, encoders; docs/sensors.md)")
 
     def __post_init__(self) -> None:
         for name in ("kp", "ki", "kd", "limit"):

@@ -223,6 +223,9 @@ class SlidingModeParameters:
     desired_pitch: float = parameter(0.0, number, "pitch to hold [rad] (default: level)")
     waypoints: tuple[tuple[float, ...], ...] = parameter(
         (), waypoint_rows, "later set points: rows [t, x, y, z, roll, pitch, yaw], each held from its time t [s] on")
+    feedback: str = parameter("true_state", choice("true_state", "measured"),
+                              "true_state: the controller reads the true state; measured: the state estimated from "
+                              "the run's sensors (an IMU, a pressure sensor, a DVL, encoders; docs/sensors.md)")
 
     def __post_init__(self) -> None:
         for name in ("bandwidth", "eta", "boundary_layer", "uncertainty"):

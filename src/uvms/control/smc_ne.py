@@ -4,7 +4,7 @@
 The controller keeps two models, both with hydrodynamics scaled by ``hydro_scale``: the vehicle body alone
 (:class:`uvms.control.smc_vehicle.VehicleModel`) and the whole system for the arm's recursive Newton-Euler
 equations. At each update, with the vehicle acceleration ``a_0`` from a simulated IMU
-(:class:`uvms.control.imu.SimulatedImu`)::
+(:class:`uvms.sensors.body_acceleration.SimulatedImu`)::
 
     qdd    = M_qq^-1 (tau - RNEA_q(a_0, qdd = 0))           the arm's joint accelerations on that base motion
     w_arm  = RNEA_0(vehicle alone; a_0) - RNEA_0(system; a_0, qdd)
@@ -16,7 +16,7 @@ a base moving with the measured velocity and acceleration; their difference is t
 joint 1. (Algebraically ``nu_dot_hat = a_0 - (I^H_0)^-1 RNEA_0(system; a_0, qdd)``: acceleration feedback.)
 With a perfect, noise-free acceleration this performs like ``smc-ab``; noise, bias or delay in ``a_0`` enter
 ``f_hat`` directly, amplified by the arm-to-vehicle mass ratio. The update is :func:`uvms.control.kernels.controller_update`
-(predictor ``NE``; :func:`uvms.control.kernels.arm_reaction`, the IMU :func:`uvms.control.imu.imu_measure`).
+(predictor ``NE``; :func:`uvms.control.kernels.arm_reaction`, the IMU :func:`uvms.sensors.body_acceleration.imu_measure`).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uvms.control.imu import ImuParameters, SimulatedImu, imu_data
+from uvms.sensors.body_acceleration import ImuParameters, SimulatedImu, imu_data
 from uvms.control.registry import choice, non_negative, non_negative_integer, parameter, register, vector
 from uvms.control.smc import SlidingModeController, SlidingModeParameters
 from uvms.control.smc_vehicle import VehicleModel

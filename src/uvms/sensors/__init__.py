@@ -4,7 +4,7 @@ datasheet. The models take the truth (:class:`~uvms.sensors.base.Truth`) as argu
 physics floor; :mod:`uvms.sim.sensing` samples a run for them."""
 
 from uvms.sensors.allan import FLICKER_FLOOR, allan_deviation
-from uvms.sensors.base import Mount, SensorRecord, Truth
+from uvms.sensors.base import Mount, Reading, SensorRecord, Truth
 from uvms.sensors.dvl import Dvl
 from uvms.sensors.encoders import Encoders
 from uvms.sensors.imu import Imu
@@ -15,4 +15,4 @@ KINDS = {"imu": Imu, "pressure": PressureSensor, "dvl": Dvl, "encoders": Encoder
 """The sensor kinds of a ``sensors:`` section, by name."""
 
 __all__ = ["FLICKER_FLOOR", "KINDS", "Dvl", "Encoders", "Imu", "Mount", "NoiseDensity", "PressureSensor",
-           "SensorRecord", "Truth", "allan_deviation"]
+           "Reading", "SensorRecord", "Truth", "allan_deviation"]

@@ -64,6 +64,30 @@ class SensorRecord:
         return self.columns[column]
 
 
+@dataclass(frozen=True)
+class Reading:
+    """One sample of one sensor, as a controller receives it (:attr:`uvms.control.base.Measurement.sensors`):
+    ``values[channel]`` (a float) taken at ``time`` [s], in the sensor's frame ``frame_id``. The channels and
+    their units are the sensor's :class:`SensorRecord` columns (``docs/sensors.md``): ``gyro_*`` [rad/s],
+    ``accel_*`` [m/s^2], ``pressure`` [Pa], ``depth`` [m], ``bottom_*``, ``water_*`` [m/s], ``bottom_valid``
+    (1 or 0), ``altitude`` [m], an encoder's joint [rad or m]."""
+
+    name: str
+    kind: str
+    frame_id: str
+    time: float
+    values: dict[str, float]
+
+    def __getitem__(self, channel: str) -> float:
+        return self.values[channel]
+
+    @classmethod
+    def of(cls, record: "SensorRecord", row: int = 0) -> "Reading":
+        """Row ``row`` of a :class:`SensorRecord`."""
+        return cls(record.name, record.kind, record.frame_id, float(record.time[row]),
+                   {k: float(c[row]) for k, c in record.columns.items()})
+
+
 def stream(seed: int, *key: int) -> np.random.Generator:
     """The noise generator of one noise part of one sensor: ``numpy.random.default_rng([seed, *key])``. Each
     part (a gyro's white noise, its bias...) draws from its own stream, so the first K samples of a part are

@@ -68,17 +68,32 @@ class Dvl:
         altitude = self.water_depth - depth_of(truth, points)
         return v_mount @ to_sensor.T, (v_mount - u_body) @ to_sensor.T, altitude
 
-    def measure(self, truth: Truth, flow=None) -> SensorRecord:
-        bottom, water, altitude = self.true_values(truth, flow)
-        K = truth.time.shape[0]
+    def errors(self, n_samples: int) -> dict[str, np.ndarray]:
+        """The seeded draws of the first ``n_samples`` samples: noise ``bottom``, ``water`` (K, 3) [m/s] and the
+        dropout draws ``dropout`` (K,) uniform in [0, 1) (each part left out when switched off)."""
+        K = int(n_samples)
+        out = {}
         if self.noise > 0:
-            bottom = bottom + stream(self.seed, 0).standard_normal((K, 3)) * self.noise
-            water = water + stream(self.seed, 1).standard_normal((K, 3)) * self.noise
-        valid = (altitude >= self.min_altitude) & (altitude <= self.max_altitude)
+            out["bottom"] = stream(self.seed, 0).standard_normal((K, 3)) * self.noise
+            out["water"] = stream(self.seed, 1).standard_normal((K, 3)) * self.noise
         if self.dropout > 0:
-            valid &= stream(self.seed, 2).random(K) >= self.dropout
+            out["dropout"] = stream(self.seed, 2).random(K)
+        return out
+
+    def reading(self, truth: Truth, errors: dict[str, np.ndarray], flow=None) -> SensorRecord:
+        """The samples at ``truth.time`` with ``errors`` (rows of :meth:`errors`, one per sample)."""
+        bottom, water, altitude = self.true_values(truth, flow)
+        if "bottom" in errors:
+            bottom = bottom + errors["bottom"]
+            water = water + errors["water"]
+        valid = (altitude >= self.min_altitude) & (altitude <= self.max_altitude)
+        if "dropout" in errors:
+            valid &= errors["dropout"] >= self.dropout
         bottom = np.where(valid[:, None], bottom, np.nan)
         columns = {**dict(zip(BOTTOM_COLUMNS, bottom.T)), "bottom_valid": valid.astype(float),
                    "altitude": altitude, **dict(zip(WATER_COLUMNS, water.T))}
         return SensorRecord(self.name, self.kind, self.name, truth.time,
                             {k: np.ascontiguousarray(c) for k, c in columns.items()})
+
+    def measure(self, truth: Truth, flow=None) -> SensorRecord:
+        return self.reading(truth, self.errors(truth.time.shape[0]), flow)

@@ -27,7 +27,14 @@ class Encoders:
     resolutions: tuple[float, ...] = ()
     kind = "encoders"
 
-    def measure(self, truth: Truth) -> SensorRecord:
+    def errors(self, n_samples: int) -> dict[str, np.ndarray]:
+        """None: an encoder's error is its rounding (module docstring)."""
+        return {}
+
+    def reading(self, truth: Truth, errors: dict[str, np.ndarray]) -> SensorRecord:
         columns = {name: quantised(np.ascontiguousarray(truth.q[:, j]), res)
                    for name, j, res in zip(self.joints, self.indices, self.resolutions)}
         return SensorRecord(self.name, self.kind, self.name, truth.time, columns)
+
+    def measure(self, truth: Truth) -> SensorRecord:
+        return self.reading(truth, {})

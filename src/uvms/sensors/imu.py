@@ -47,14 +47,28 @@ class Imu:
         to_sensor = self.mount.rotation.T
         return omega @ to_sensor.T, (a - gravity_body) @ to_sensor.T
 
-    def measure(self, truth: Truth) -> SensorRecord:
-        """The samples at ``truth.time`` (taken every ``1 / rate``): true values plus seeded noise."""
-        gyro, accel = self.true_values(truth)
-        dt, K = 1.0 / self.rate, truth.time.shape[0]
+    def errors(self, n_samples: int) -> dict[str, np.ndarray]:
+        """The seeded errors of the first ``n_samples`` samples: ``gyro``, ``accel`` (K, 3) (a part left out
+        when its noise is zero). Sample ``k``'s errors are the same whatever ``n_samples`` (> k)."""
+        dt, K = 1.0 / self.rate, int(n_samples)
+        out = {}
         if not self.gyro.is_zero:
-            gyro = gyro + axis_noise(self.gyro, dt, K, 3, self.seed, 0)
+            out["gyro"] = axis_noise(self.gyro, dt, K, 3, self.seed, 0)
         if not self.accel.is_zero:
-            accel = accel + axis_noise(self.accel, dt, K, 3, self.seed, 1)
+            out["accel"] = axis_noise(self.accel, dt, K, 3, self.seed, 1)
+        return out
+
+    def reading(self, truth: Truth, errors: dict[str, np.ndarray]) -> SensorRecord:
+        """The samples at ``truth.time``: true values plus ``errors`` (rows of :meth:`errors`, one per sample)."""
+        gyro, accel = self.true_values(truth)
+        if "gyro" in errors:
+            gyro = gyro + errors["gyro"]
+        if "accel" in errors:
+            accel = accel + errors["accel"]
         columns = {**dict(zip(GYRO_COLUMNS, gyro.T)), **dict(zip(ACCEL_COLUMNS, accel.T))}
         return SensorRecord(self.name, self.kind, self.name, truth.time, {k: np.ascontiguousarray(c)
                                                                           for k, c in columns.items()})
+
+    def measure(self, truth: Truth) -> SensorRecord:
+        """The samples at ``truth.time`` (taken every ``1 / rate``): true values plus seeded noise."""
+        return self.reading(truth, self.errors(truth.time.shape[0]))

@@ -38,10 +38,20 @@ class PressureSensor:
         depth = depth_of(truth, mount_point(truth, self.mount))
         return self.atmosphere + self.density * float(np.linalg.norm(truth.gravity)) * depth
 
-    def measure(self, truth: Truth) -> SensorRecord:
-        p = self.true_values(truth)
+    def errors(self, n_samples: int) -> dict[str, np.ndarray]:
+        """The seeded noise of the first ``n_samples`` samples: ``pressure`` (K,) [Pa] (none when noise-free)."""
         if self.noise > 0:
-            p = p + stream(self.seed, 0).standard_normal(p.shape[0]) * self.noise
+            return {"pressure": stream(self.seed, 0).standard_normal(int(n_samples)) * self.noise}
+        return {}
+
+    def reading(self, truth: Truth, errors: dict[str, np.ndarray]) -> SensorRecord:
+        """The samples at ``truth.time``: true pressure plus ``errors`` (rows of :meth:`errors`), rounded."""
+        p = self.true_values(truth)
+        if "pressure" in errors:
+            p = p + errors["pressure"]
         p = quantised(p, self.resolution)
         depth = (p - self.atmosphere) / (self.density * float(np.linalg.norm(truth.gravity)))
         return SensorRecord(self.name, self.kind, self.name, truth.time, {"pressure": p, "depth": depth})
+
+    def measure(self, truth: Truth) -> SensorRecord:
+        return self.reading(truth, self.errors(truth.time.shape[0]))

@@ -1,11 +1,14 @@
 """The whole closed loop compiled: controller updates, thrust allocation, arm trackers and RK4 in one numba
 function (:func:`advance`), with no Python between two calls.
 
-At each event step (a controller update, an arm update, a torque-schedule breakpoint: :func:`_due`)::
+At each event step (a controller update, an arm update, a torque-schedule breakpoint: :func:`_due`; and, for
+a controller fed measurements, each sensor's sample step)::
 
+    x_hat    <- sense(sensing, x)                                   (measured feedback: the sensors due now and
+                                                                     the estimator, uvms.control.estimator)
     tau      <- arm_torques(arm, t, x)                              (every event, or at the arm's period)
     nu_dot   <- the plant's true acceleration with the held inputs  (only for a controller that measures it)
-    wrench   <- controller_update(controller, t, x, tau, nu_dot)    (at the controller's period)
+    wrench   <- controller_update(controller, t, x or x_hat, tau, nu_dot)   (at the controller's period)
     command  <- allocate_command(allocation, wrench)                (thrusts -> actuator commands)
     log the update (step, tau, signals); RK4 to the next event
 
@@ -29,6 +32,7 @@ from numba import njit, types
 from numba.experimental import structref
 
 from uvms.control.arm import arm_torques
+from uvms.control.estimator import next_sample, sense
 from uvms.control.kernels import controller_update
 from uvms.dynamics.plant import plant_data
 from uvms.jit import kernel
@@ -38,7 +42,8 @@ from uvms.thrusters.command import allocate_command
 
 
 class Control(NamedTuple):
-    """The compiled controller, arm and allocation of a run, and their scratch."""
+    """The compiled controller, arm and allocation of a run, their scratch, and the sensing of a controller fed
+    measurements."""
 
     controller: tuple           # uvms.control.compiled.ControllerData
     arm: tuple                  # uvms.control.arm.ArmData
@@ -47,6 +52,7 @@ class Control(NamedTuple):
     xdot: np.ndarray            # (N,) scratch: the state derivative for a measured acceleration
     allocation_signals: np.ndarray  # (m + 6,) thrusts and unachieved wrench of the last allocation (m = 0: empty)
     signals: np.ndarray         # (S,) [controller signals | wrench | allocation signals] of the last update
+    sensing: tuple              # uvms.control.estimator.SensingData (inactive: the controller reads x)
 
 
 class Schedule(NamedTuple):
@@ -166,7 +172,8 @@ def _control(plant, held, control, schedule, x, done, due, controller_compiled):
             ctrl = control.controller
             if ctrl.needs_acceleration:
                 derivative_kernel(plant, held, t, x, control.xdot)
-            controller_update(ctrl, t, x, held.joint_torques, control.xdot[NU:JOINTS], control.wrench)
+            seen = control.sensing.x_hat if control.sensing.active else x
+            controller_update(ctrl, t, seen, held.joint_torques, control.xdot[NU:JOINTS], control.wrench)
         _command(control, held)
 
 
@@ -190,11 +197,12 @@ def advance(plant, held, control, schedule, record, log, x, start, stop):
     done = start
     h = schedule.h
     while done < stop:
+        sense(control.sensing, x, done)         # a no-op unless a sensor of a measured feedback samples now
         due = _due(schedule, done)
         if due:
             _update(plant, held, control, schedule, x, done, due)
             _log_update(log, record.every, done, held.joint_torques, control.signals)
-        nxt = _next_event(schedule, done, stop)
+        nxt = next_sample(control.sensing, done, _next_event(schedule, done, stop))
         k, code = rk4_steps(plant, held, x, 0.0, h, nxt - done, done, record)
         done += k
         if code != 0:
@@ -235,6 +243,7 @@ def advance_loop(loop, start, stop):
 def event_start(loop, done, arm_compiled):
     """For the loop with events in Python (:class:`uvms.sim.loop.PythonEvents`): :func:`_due` at step ``done``,
     and the compiled arm's torques when they are due (``arm_compiled``; else Python evaluates them)."""
+    sense(loop.control.sensing, loop.x, done)
     due = _due(loop.schedule, done)
     if (due & ARM) != 0 and arm_compiled:
         arm_torques(loop.control.arm, done * loop.schedule.h, loop.x, loop.held.joint_torques)
@@ -250,7 +259,7 @@ def event_end(loop, done, due, controller_compiled, stop):
         _control(plant_data(loop.plant), loop.held, loop.control, loop.schedule, loop.x, done, due,
                  controller_compiled)
         _log_update(loop.log, loop.record.every, done, loop.held.joint_torques, loop.control.signals)
-    return loop.log.count[0], _next_event(loop.schedule, done, stop)
+    return loop.log.count[0], next_sample(loop.control.sensing, done, _next_event(loop.schedule, done, stop))
 
 
 @njit(cache=True)
@@ -327,11 +336,25 @@ def compiled_run(plan, n_updates: int | None = None) -> CompiledRun:
     m = len(plan.thrusters)
     control = Control(controller=controller, arm=arm, allocation=thrust_command(plan.thrusters),
                       wrench=np.zeros(6), xdot=np.zeros(plan.x.size),
-                      allocation_signals=np.zeros(m + 6 if m else 0), signals=np.zeros(len(names)))
+                      allocation_signals=np.zeros(m + 6 if m else 0), signals=np.zeros(len(names)),
+                      sensing=measured_feedback(plan))
     schedule = plan.schedule()
     log = update_log(plan.samples.times.shape[0] + 2, n, len(names))
     loop = _new_loop(plan.plant, plan.held, control, schedule, plan.samples, log, plan.x)
     return CompiledRun(control, schedule, log, loop, names)
+
+
+def measured_feedback(plan):
+    """The :class:`~uvms.control.estimator.SensingData` of ``plan``: active for a bundled controller with
+    ``feedback: measured`` (from the run's sensors and its initial state), else the inactive placeholder."""
+    from uvms.control.estimator import no_sensing, sensing_data
+
+    controller = plan.controller
+    feedback = getattr(getattr(controller, "parameters", None), "feedback", "true_state")
+    if controller is None or feedback != "measured" or not compiled_controller(plan):
+        return no_sensing(plan.x.size)
+    return sensing_data(plan.recording.sensors, plan.model, plan.x, h=plan.timing.h, n_total=plan.timing.n_total,
+                        surface=float(plan.water.surface) if plan.water is not None else 0.0)
 
 
 class CompiledLog:

@@ -100,11 +100,12 @@ class PythonController:
     """A controller's update in Python (the :class:`~uvms.control.base.Controller` protocol): its checked wrench
     written into the compiled loop's ``wrench`` (allocated and logged there), its own signals returned."""
 
-    def __init__(self, plan, wrench: np.ndarray) -> None:
+    def __init__(self, plan, wrench: np.ndarray, sensors=None) -> None:
         self.plan = plan
         self.controller = plan.controller
         self.wrench = wrench
         self.xdot = np.zeros(plan.x.size)
+        self.sensors = sensors          # a uvms.sim.sensing.LiveSensors, or None
 
     def true_nu_dot(self, t: float):
         """The vehicle's true body acceleration now, with the held inputs (evaluated only if asked for)."""
@@ -119,7 +120,8 @@ class PythonController:
     def __call__(self, t: float, state) -> dict:
         plan = self.plan
         out: ControlOutput = self.controller.update(Measurement(
-            time=t, state=state, joint_torques=plan.held.joint_torques.copy(), nu_dot_source=self.true_nu_dot(t)))
+            time=t, state=state, joint_torques=plan.held.joint_torques.copy(), nu_dot_source=self.true_nu_dot(t),
+            sensors=dict(self.sensors.latest) if self.sensors is not None else None))
         self.wrench[:] = checks.returned_vector(getattr(out, "wrench", None), 6, "controller.update().wrench",
                                                 " [moment; force]", t)
         return dict(out.signals)
@@ -138,7 +140,13 @@ class PythonEvents:
         self.plan = plan
         self.run = compiled_run(plan)
         self.arm_compiled, self.controller_compiled = compiled_arm(plan), compiled_controller(plan)
-        self.controller = None if self.controller_compiled else PythonController(plan, self.run.control.wrench)
+        self.sensors = None
+        if plan.recording.sensors and not self.controller_compiled:
+            from uvms.sim.sensing import LiveSensors
+
+            self.sensors = LiveSensors(plan)        # a Python controller reads them (Measurement.sensors)
+        self.controller = (None if self.controller_compiled else
+                           PythonController(plan, self.run.control.wrench, self.sensors))
         self.per_update: list = []
         self.signals: dict = {}
         self.adaptive = None if plan.integrator.name == "rk4" else AdaptiveSegments(plan)
@@ -155,6 +163,8 @@ class PythonEvents:
         horizon = stop if self.adaptive is None else plan.timing.n_total
         done = start
         while done < stop:
+            if self.sensors is not None:
+                self.sensors.sample(done)           # before the step's updates (the left limit)
             due = event_start(loop, done, self.arm_compiled)
             python_arm = due & ARM and not self.arm_compiled
             python_control = due & CONTROL and self.controller is not None
@@ -168,6 +178,8 @@ class PythonEvents:
             kept, nxt = event_end(loop, done, due, self.controller_compiled, horizon)
             if due and self.controller is not None:
                 self.per_update[kept - 1:] = [self.signals]     # the compiled log's drop rule, kept in step
+            if self.sensors is not None:
+                nxt = min(nxt, self.sensors.next_sample(done))
             if self.adaptive is None:
                 k, code = rk4(plan.plant, plan.held, plan.x, 0.0, h, nxt - done, done, plan.samples)
                 done += k

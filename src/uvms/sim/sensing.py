@@ -7,6 +7,10 @@ recorded state, the body acceleration ``nu_dot`` of the plant's derivative at th
 over the step that follows the row (the row's joint torques and the actuator command of the controller update
 holding it: the same zero-order hold the integrator applied), and the water at the mount
 (:func:`uvms.hydro.flow.fluid_at`). ``docs/sensors.md``; ``docs/conventions.md``, "Sensors".
+
+:class:`LiveSensors` samples the same models during a run with its events in Python, for a Python controller's
+``Measurement.sensors`` (a bundled controller's ``feedback: measured`` samples them compiled:
+:mod:`uvms.control.estimator`).
 """
 
 from __future__ import annotations
@@ -124,3 +128,63 @@ def sensor_records(plan, t, x, tau, signals) -> dict[str, SensorRecord]:
                       and name != "gravity" else f for name, f in zip(Truth._fields, truth)))
         out[sensor.name] = sensor.measure(own, plan.water) if sensor.kind == "dvl" else sensor.measure(own)
     return out
+
+
+class LiveSensors:
+    """The sensors sampled during a run with its events in Python (:mod:`uvms.sim.loop`), for a Python
+    controller's :attr:`~uvms.control.base.Measurement.sensors`: at each of a sensor's sample steps, before that
+    step's arm and controller updates, the sensor's model (:meth:`reading`) on the state there. The truth is the
+    one :func:`row_truth` takes, but the inputs held are those of the step that ends at the sample (the left
+    limit: a sensor samples before the controller acts on its sample; at step 0 no input is held yet, neither
+    joint torques nor a command), so an accelerometer's sample at a step where an input changes differs from the
+    recorded one (the right limit); every other channel is the recorded sample's. The errors are the sensor's own (:meth:`errors`) drawn once for the whole run, so sample ``k`` has
+    the recorded sample's noise. ``docs/sensors.md``, "Controllers fed measurements"."""
+
+    def __init__(self, plan) -> None:
+        from uvms.checks import MAX_RECORDED_VALUES
+
+        self.plan = plan
+        self.sensors = plan.recording.sensors
+        self.steps = sensor_steps(self.sensors, plan.timing.h)
+        n_total = plan.timing.n_total
+        counts = [n_total // k + 1 for k in self.steps]
+        if sum(counts) * 6 > MAX_RECORDED_VALUES:
+            raise checks.fail("sensors", f"expected at most {MAX_RECORDED_VALUES // 6:.3g} sensor samples in a run "
+                                         f"(their noise is drawn before it), found {sum(counts):.3g}")
+        self.errors = [s.errors(c) for s, c in zip(self.sensors, counts)]
+        self.latest: dict = {}
+        self._xdot = np.zeros(plan.x.size)
+
+    def next_sample(self, done: int) -> int:
+        """The first sample step after ``done``."""
+        return min((done // k + 1) * k for k in self.steps)
+
+    def sample(self, done: int) -> None:
+        """Sample every sensor due at step ``done`` into :attr:`latest` (a :class:`~uvms.sensors.Reading` each)."""
+        from uvms.rotations import rotations_from_quaternions
+        from uvms.sensors import Reading
+        from uvms.sim.integrate import derivative
+
+        due = [i for i, k in enumerate(self.steps) if done % k == 0]
+        if not due:
+            return
+        plan = self.plan
+        t = done * plan.timing.h
+        x = plan.x.copy()
+        n = plan.layout.n_joints
+        nu_dot = np.zeros((1, 6))
+        if any(self.sensors[i].kind == "imu" for i in due):
+            derivative(plan.plant, plan.held, t, x, self._xdot)
+            nu_dot[0] = self._xdot[NU:JOINTS]
+        quaternion = x[QUATERNION:NU] / np.linalg.norm(x[QUATERNION:NU])
+        truth = Truth(time=np.array([t]), position=x[None, POSITION:QUATERNION],
+                      rotation=rotations_from_quaternions(quaternion[None]), nu=x[None, NU:JOINTS], nu_dot=nu_dot,
+                      q=x[None, JOINTS:JOINTS + n], gravity=np.asarray(plan.model.gravity, dtype=float),
+                      convention=plan.model.convention,
+                      surface=float(plan.water.surface) if plan.water is not None else 0.0)
+        for i in due:
+            sensor, k = self.sensors[i], done // self.steps[i]
+            errors = {name: e[k:k + 1] for name, e in self.errors[i].items()}
+            record = (sensor.reading(truth, errors, plan.water) if sensor.kind == "dvl"
+                      else sensor.reading(truth, errors))
+            self.latest[sensor.name] = Reading.of(record)
