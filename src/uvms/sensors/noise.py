@@ -43,6 +43,11 @@ GAUSS_MARKOV_PEAK = 0.6174
 from :func:`gauss_markov_avar`; the tests recompute it)."""
 
 
+DEFAULT_BAND = (1.0, 1.0e5)
+"""Default correlation times ``(T_lo, T_hi)`` of the bias instability [s], in Python and in scenario files
+(``docs/conventions.md``, "Sensors", item 4): the Allan floor holds from about 10 s to 30 000 s."""
+
+
 @dataclass(frozen=True)
 class NoiseDensity:
     """One axis family's datasheet parameters (module docstring); zero switches a part off.
@@ -57,7 +62,7 @@ class NoiseDensity:
 
     white: float = 0.0
     bias_instability: float = 0.0
-    band: tuple[float, float] = (1.0, 1000.0)
+    band: tuple[float, float] = DEFAULT_BAND
     random_walk: float = 0.0
     bias: float = 0.0
 

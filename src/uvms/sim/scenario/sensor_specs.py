@@ -11,6 +11,7 @@ from pydantic import BeforeValidator, Discriminator, Field, Strict, Tag, model_v
 
 from uvms.errors import UvmsInputError, show
 from uvms.schema_base import ZERO3, NonNegative, Positive, Spec, Vec3, fail, finite_number, numbers
+from uvms.sensors.noise import DEFAULT_BAND
 
 Seed = Annotated[int, Strict(), Field(ge=0)]
 
@@ -29,7 +30,7 @@ class NoiseSpec(Spec):
 
     white: NonNegative = 0.0                      # N [unit/sqrt(Hz)]: angle / velocity random walk
     bias_instability: NonNegative = 0.0           # B [unit]; the Allan floor is 0.664 B
-    band: Annotated[tuple[float, float], numbers(2, minimum=0.0)] = (1.0, 1.0e5)   # its correlation times [s]
+    band: Annotated[tuple[float, float], numbers(2, minimum=0.0)] = DEFAULT_BAND   # its correlation times [s]
     random_walk: NonNegative = 0.0                # K [unit/s/sqrt(Hz)]: bias (rate) random walk
     bias: Annotated[float, BeforeValidator(finite_number)] = 0.0   # constant bias [unit]
 
