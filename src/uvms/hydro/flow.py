@@ -37,9 +37,12 @@ particle (``docs/flow.md``). A uniform table has no gradient: its ``a_f`` is its
   and their gradients (``d theta/dx = k cos b``, ``d theta/dy = k sin b``, ``d cosh(k (zeta + h))/d zeta =
   k sinh(k (zeta + h))``, zero along ``zeta`` where it is held),
 
-  computed as ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-k (zeta + 2 h)}) / (1 - e^{-2 k h})`` (and
-  the ``sinh`` ratio with a minus), one exponential per component, finite for every ``k h`` and exactly
-  ``e^{k zeta}`` in deep water (``h = inf``). Above the mean surface (``zeta > 0``, inside a crest) the
+  computed as ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-2 k h} e^{-k zeta}) / (1 - e^{-2 k h})``
+  (and the ``sinh`` ratio with a minus), one exponential pair per component, finite for every ``k h`` and
+  ``e^{k zeta}`` in deep water (``h = inf``). The sums over the components are twelve dot products of fixed
+  weights (:data:`UX` ...) with four terms per component (:func:`wave_terms_fast`: vectorised sine, cosine and
+  exponential of :mod:`uvms.hydro.elementary`, when every phase is within their range; else
+  :func:`wave_terms_libm`), ``docs/flow.md``, "Cost". Above the mean surface (``zeta > 0``, inside a crest) the
   kinematics are held at their ``zeta = 0`` values (constant extrapolation; linear theory says nothing there);
   below the seabed (``zeta < -h``) at the bed's.
 """
@@ -112,6 +115,9 @@ class FlowData(NamedTuple):
     surface: float              # world z of the mean free surface [m]
     up: float                   # +1: world z up (enu), -1: down (ned)
     status: np.ndarray          # (1,) int64: 0, or OUTSIDE once a point lay outside an "error" field
+
+    # status, wave_work and wave_sums are written during an evaluation: one FlowData per thread
+    # (Flow.compiled makes a fresh one; every run compiles its own).
 
 
 # ------------------------------------------------------------------------------------------- kernels
