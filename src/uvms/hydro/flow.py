@@ -99,6 +99,7 @@ class FlowData(NamedTuple):
     acceleration: np.ndarray    # (T, 3) [m/s^2]
     profile_depth: np.ndarray   # (K,) [m] positive down from the mean surface, increasing (K = 0: none)
     profile_velocity: np.ndarray  # (K, 3) [m/s]
+    profile_slope: np.ndarray   # (K, 3) [1/s] d velocity / d depth of the segment below each depth (last row 0)
     field_x: np.ndarray         # (nx,) [m] world (nx = 0: no field)
     field_y: np.ndarray         # (ny,)
     field_z: np.ndarray         # (nz,)
@@ -181,18 +182,33 @@ def bracket(axis, value):
 @block
 def profile_add(flow, point, v_out, grad):
     """``v_out += u_profile(depth)``, ``depth = up (surface - z)``: linear in depth, held beyond the ends;
-    ``grad[:, 2] += du/dz`` (the segment's slope inside, zero where held)."""
-    depth = flow.up * (flow.surface - point[2])
-    lo, s, inside = bracket(flow.profile_depth, depth)
-    n = flow.profile_depth.shape[0]
-    hi = lo + 1 if n > 1 else lo
+    ``grad[:, 2] += du/dz`` (the segment's slope inside and at the ends themselves, zero where held).
+
+    Inside segment ``j``: ``u = V_j + (depth - d_j) slope_j`` with ``slope_j = (V_{j+1} - V_j) / (d_{j+1} - d_j)``
+    (:attr:`FlowData.profile_slope`, computed when the flow is compiled: no division per evaluation) and
+    ``du/dz = -up slope_j``."""
+    d = flow.profile_depth
     V = flow.profile_velocity
-    for k in range(3):
-        v_out[k] += (1.0 - s) * V[lo, k] + s * V[hi, k]
-    if n > 1 and inside:
-        dz = -flow.up / (flow.profile_depth[hi] - flow.profile_depth[lo])     # d depth / dz = -up
+    n = d.shape[0]
+    depth = flow.up * (flow.surface - point[2])
+    if n == 1 or depth < d[0] or depth > d[n - 1]:           # held (one depth: constant)
+        end = 0 if n == 1 or depth < d[0] else n - 1
         for k in range(3):
-            grad[k, 2] += (V[hi, k] - V[lo, k]) * dz
+            v_out[k] += V[end, k]
+        return
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if d[mid] <= depth:
+            lo = mid
+        else:
+            hi = mid
+    slope = flow.profile_slope
+    delta = depth - d[lo]
+    for k in range(3):
+        v_out[k] += V[lo, k] + delta * slope[lo, k]
+        grad[k, 2] -= flow.up * slope[lo, k]
 
 
 @block
@@ -533,7 +549,8 @@ class Flow:
         return FlowData(
             uniform_only=self.profile is None and self.field is None and self.waves is None,
             times=self.times.copy(), velocity=self.velocity.copy(), acceleration=self.acceleration.copy(),
-            profile_depth=depth.copy(), profile_velocity=pv.copy(), field_x=fx.copy(), field_y=fy.copy(),
+            profile_depth=depth.copy(), profile_velocity=pv.copy(), profile_slope=_profile_slope(depth, pv),
+            field_x=fx.copy(), field_y=fy.copy(),
             field_z=fz.copy(), field_t=ft.copy(), field_velocity=fv.copy(), field_outside=int(outside),
             wave_table=table, wave_weights=weights, wave_reach=reach, wave_work=np.zeros((WORK_ROWS, table.shape[1])),
             wave_sums=np.zeros(N_SUMS), water_depth=float(h),
@@ -559,6 +576,15 @@ class Flow:
         fluid_at_points(flow, t, points, v, a, grad)
         check_status(flow)
         return v, a, grad
+
+
+def _profile_slope(depth: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+    """:attr:`FlowData.profile_slope`: each segment's ``(V_{j+1} - V_j) / (d_{j+1} - d_j)``, zero after the last
+    depth."""
+    slope = np.zeros_like(velocity)
+    if depth.shape[0] > 1:
+        slope[:-1] = np.diff(velocity, axis=0) / np.diff(depth)[:, None]
+    return slope
 
 
 def _wave_arrays(a, w, k, b, phase, h) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
