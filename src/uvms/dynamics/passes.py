@@ -143,8 +143,9 @@ def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
     ``R0`` is the vehicle's body-to-world rotation, ``p0`` its world position, ``nu`` its body velocity
     ``[omega; v]``, ``flow`` the water (:class:`uvms.hydro.flow.FlowData`) and ``t`` the time [s]. A uniform
     flow (``flow.uniform_only``) is evaluated once and its world vectors rotated down the tree like gravity;
-    any other at every body's own centre of buoyancy (:func:`body_fluid`; its uniform table once), with the body's world pose
-    ``R_i = R_p E_i^T``, ``p_i = p_p + R_p r_i`` carried along (``ws.R_world``, ``ws.p_world``).
+    any other at every body's own centre of buoyancy (:func:`body_fluid`; its uniform table once per pass),
+    with the body's world pose ``R_i = R_p E_i^T``, ``p_i = p_p + R_p r_i`` carried along (``ws.R_world``,
+    ``ws.p_world``).
     """
     nb = km.parent.shape[0]
     h = ws.h
