@@ -34,6 +34,7 @@ from numba import njit
 
 import uvms
 from uvms.dynamics.plant import fluid_table, forward_into, inverse_into, mass_matrix_into, model_data
+from uvms.hydro.flow import fluid_at
 from uvms.model.model import Model
 from uvms.rotations import quaternion_from_rotation, rotation_from_euler
 from uvms.spatial import modified_dh_pose, rotz
@@ -639,7 +640,60 @@ def bench_flow(settings: Settings) -> Section:
             sec.figures[f"{name}_{water}_ratio"] = value / base
             sec.rows.append([name, water, value, f"{value / base:.2f}"])
     sec.notes.append("the three waters are timed side by side per model (batches take turns in every repeat)")
+    _flow_points(sec, waters, settings)
     return sec
+
+
+@njit(cache=True)
+def _water_at_points(flow, t, points, v, a, grad, calls):
+    """``fluid_at`` at every row of ``points`` (the drag strips' 16 Gauss points of a link), ``calls`` times."""
+    for j in range(calls):
+        for p in range(points.shape[0]):
+            fluid_at(flow, t + j * 1e-4, points[p], v, a, grad)
+
+
+@njit(cache=True)
+def _sin_cos_libm(x, s, c):
+    for i in range(x.shape[0]):
+        s[i] = np.sin(x[i])
+        c[i] = np.cos(x[i])
+
+
+def _flow_points(sec: Section, waters: dict, settings: Settings) -> None:
+    """Where the time goes: the water at one point (``fluid_at``, call included) per kind, what evaluating it
+    at the 16 Gauss points of every link's drag strips instead of once per link would add to an RK4 step (15
+    more points per link and stage), and the elementary functions' throughput per element of a long array."""
+    from uvms.hydro.elementary import exp_pair_reduced_array, sin_cos_reduced_array
+
+    points = np.zeros((16, 3))
+    points[:, 0] = np.linspace(0.0, 0.2, 16)
+    points[:, 2] = 3.0
+    v, a, grad = np.zeros(3), np.zeros(3), np.zeros((3, 3))
+    batches: dict[str, Callable[[int], object]] = {}
+    for water in ("profile", "waves50"):
+        data = waters[water].compiled("ned")
+        batches[f"point_{water}_ns"] = lambda calls, data=data: _water_at_points(data, 1.0, points, v, a, grad, calls)
+    x = np.random.default_rng(3).uniform(-100.0, 100.0, 5600)
+    s, c = np.empty(5600), np.empty(5600)
+    elementary = {"sin_cos_poly": sin_cos_reduced_array, "exp_pair_poly": exp_pair_reduced_array,
+                  "sin_cos_libm": _sin_cos_libm}
+    times = time_side_by_side(batches, settings)
+    for name, fn in elementary.items():
+        times.update(time_side_by_side({name: lambda calls, fn=fn: [fn(x, s, c) for _ in range(calls)]}, settings,
+                                       calls=max(settings.calls // 20, 1)))
+    links = {"paper": 3, "bluerov2_heavy_alpha5": 4}
+    for water in ("profile", "waves50"):
+        per_point = times[f"point_{water}_ns"] / 16 * 1e3
+        sec.figures[f"point_{water}_ns"] = per_point
+        strips = {name: per_point * 15 * n * 4 / 1e3 for name, n in links.items()}
+        sec.figures.update({f"{name}_{water}_strips_extra_us": value for name, value in strips.items()})
+        sec.notes.append(f"{water}: {per_point:.0f} ns per point; at every link's 16 drag-strip points instead of "
+                         f"one: +{strips['paper']:.1f} us per step (paper), +{strips['bluerov2_heavy_alpha5']:.1f} us "
+                         "(BlueROV2 Heavy + Alpha 5)")
+    per_element = {name: times[name] / x.size * 1e3 for name in elementary}
+    sec.figures.update({f"{name}_ns_per_element": value for name, value in per_element.items()})
+    sec.notes.append(f"per element of {x.size} (vectorised throughput): " + ", ".join(
+        f"{name} {value:.1f} ns" for name, value in per_element.items()))
 
 
 def _deep_or_finite_k(omega: float, h: float) -> float:

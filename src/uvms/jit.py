@@ -15,7 +15,13 @@ with these decorators, so this module imports nothing of uvms.
 - ``error_model="numpy"``: a division by zero gives ``inf``/``nan`` (caught by the callers' finiteness checks)
   instead of a branch to a ``ZeroDivisionError`` after every division; results of finite arithmetic are the
   same.
-- no ``fastmath``: NaN and infinity must propagate to the finiteness checks unchanged.
+- no ``fastmath``: NaN and infinity must propagate to the finiteness checks unchanged. Two narrow exceptions,
+  for the wave kernels' loops over components (:mod:`uvms.hydro.elementary`, :mod:`uvms.hydro.flow`), neither
+  of which changes what a NaN or an infinity does: ``fused_*`` allow floating-point **contraction** only
+  (``a * b + c`` may become one fused multiply-add, rounded once: never less accurate); ``sum_kernel`` also
+  allows **reassociation**, for loops of plain sums of products, so that they can be split into lane-wise
+  partial sums and vectorised (the sum is then rounded in another order). ``nnan``, ``ninf``, ``afn`` (libm
+  approximations) are never used.
 - ``nogil=True``: a kernel holds no Python object, so it releases the GIL; threads run in parallel
   (:func:`uvms.rollout`).
 
@@ -34,6 +40,22 @@ kernel = njit(**OPTIONS)
 
 block = njit(inline="always", **OPTIONS)
 """Decorator of a small compiled helper inlined into every kernel that calls it."""
+
+FUSED = {"fastmath": {"contract"}, **OPTIONS}
+"""Compile options with floating-point contraction (the module docstring's first exception)."""
+
+fused_kernel = njit(**FUSED)
+"""Decorator of a compiled kernel whose ``a * b + c`` may be fused (elementary functions, wave terms)."""
+
+fused_block = njit(inline="always", **FUSED)
+"""Decorator of a small inlined helper with contraction (it takes its caller's options once inlined: call it
+from ``fused_kernel`` or ``sum_kernel`` code only, or from tests)."""
+
+SUMS = {"fastmath": {"contract", "reassoc"}, **OPTIONS}
+"""Compile options of a loop of sums of products that may be reassociated (the second exception)."""
+
+sum_kernel = njit(**SUMS)
+"""Decorator of a compiled kernel of dot products over wave components (vectorised partial sums)."""
 
 ALLOCATING = {"cache": True, "nogil": True, "_nrt": True, "error_model": "python"}
 """Compile options of a function that allocates and is reached from kernels: the bounded least squares of the

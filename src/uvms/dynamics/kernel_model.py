@@ -115,6 +115,8 @@ class Workspace(NamedTuple):
     fluid_v: np.ndarray     # (3,) the water's velocity there, world [m/s] (hydro.flow.fluid_at)
     fluid_a: np.ndarray     # (3,) the water's material acceleration there, world [m/s^2]
     fluid_grad: np.ndarray  # (3, 3) the water's velocity gradient there, du_r/dx_c [1/s]
+    table_v: np.ndarray     # (3,) the uniform table's velocity at the pass's time, world [m/s] (non-uniform flows)
+    table_a: np.ndarray     # (3,) the uniform table's acceleration then, world [m/s^2]
 
 
 def kernel_model_from(model) -> KernelModel:
@@ -221,5 +223,5 @@ def make_workspace(n_bodies: int) -> Workspace:
         column=np.zeros(6), column_up=np.zeros(6), a_fluid=np.zeros(6), nu_c=np.zeros(6), f_c=np.zeros(6),
         shape_work=np.zeros(WORK_SIZE), R_world=np.zeros((nb, 3, 3)), p_world=np.zeros((nb, 3)),
         point=np.zeros(3), fluid_v=np.zeros(3), fluid_a=np.zeros(3),
-        fluid_grad=np.zeros((3, 3)),
+        fluid_grad=np.zeros((3, 3)), table_v=np.zeros(3), table_a=np.zeros(3),
     )

@@ -24,7 +24,7 @@ from uvms.hydro.added_mass import added_mass_force
 from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
 from uvms.hydro.drag import link_drag_force, vehicle_drag_force
-from uvms.hydro.flow import fluid_at, uniform_at
+from uvms.hydro.flow import local_parts_add, uniform_at
 from uvms.hydro.fossen import CROSS_ABS_END, CROSS_END, CROSS_ROWS, fossen_cross_damping_force, fossen_damping_force
 from uvms.hydro.shapes import shapes_drag_force
 from uvms.jit import block
@@ -116,16 +116,19 @@ def body_hydro_forces(km, ws, i):
 def body_fluid(km, ws, flow, t, i):
     """The water at body ``i`` (:func:`uvms.hydro.flow.fluid_at` at its centre of buoyancy ``p_i + R_i b_i``,
     world pose ``R_i = ws.R_world[i]``, ``p_i = ws.p_world[i]``) in body axes: ``ws.vc[i] = R_i^T u_f``,
-    ``ws.af[i] = R_i^T a_f``."""
+    ``ws.af[i] = R_i^T a_f``. The uniform part is the stage's (``ws.table_v``, ``ws.table_a``: evaluated once
+    per pass), the parts that vary in space are added at the point (:func:`uvms.hydro.flow.local_parts_add`)."""
     R = ws.R_world[i]
     p = ws.p_world[i]
     b = km.cob[i]
     point = ws.point
-    for r in range(3):
-        point[r] = p[r] + R[r, 0] * b[0] + R[r, 1] * b[1] + R[r, 2] * b[2]
     u_f = ws.fluid_v
     a_f = ws.fluid_a
-    fluid_at(flow, t, point, u_f, a_f, ws.fluid_grad)
+    for r in range(3):
+        point[r] = p[r] + R[r, 0] * b[0] + R[r, 1] * b[1] + R[r, 2] * b[2]
+        u_f[r] = ws.table_v[r]
+        a_f[r] = ws.table_a[r]
+    local_parts_add(flow, t, point, u_f, a_f, ws.fluid_grad)
     for k in range(3):
         ws.vc[i, k] = R[0, k] * u_f[0] + R[1, k] * u_f[1] + R[2, k] * u_f[2]
         ws.af[i, k] = R[0, k] * a_f[0] + R[1, k] * a_f[1] + R[2, k] * a_f[2]
@@ -140,8 +143,9 @@ def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
     ``R0`` is the vehicle's body-to-world rotation, ``p0`` its world position, ``nu`` its body velocity
     ``[omega; v]``, ``flow`` the water (:class:`uvms.hydro.flow.FlowData`) and ``t`` the time [s]. A uniform
     flow (``flow.uniform_only``) is evaluated once and its world vectors rotated down the tree like gravity;
-    any other at every body's own centre of buoyancy (:func:`body_fluid`), with the body's world pose
-    ``R_i = R_p E_i^T``, ``p_i = p_p + R_p r_i`` carried along (``ws.R_world``, ``ws.p_world``).
+    any other at every body's own centre of buoyancy (:func:`body_fluid`; its uniform table once per pass),
+    with the body's world pose ``R_i = R_p E_i^T``, ``p_i = p_p + R_p r_i`` carried along (``ws.R_world``,
+    ``ws.p_world``).
     """
     nb = km.parent.shape[0]
     h = ws.h
@@ -150,6 +154,8 @@ def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
     a_fluid = ws.fluid_a
     if uniform:
         uniform_at(flow, t, v_current, a_fluid)
+    else:
+        uniform_at(flow, t, ws.table_v, ws.table_a)
     for i in range(nb):
         vi = ws.v[i]
         ci = ws.c[i]

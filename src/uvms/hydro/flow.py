@@ -37,9 +37,12 @@ particle (``docs/flow.md``). A uniform table has no gradient: its ``a_f`` is its
   and their gradients (``d theta/dx = k cos b``, ``d theta/dy = k sin b``, ``d cosh(k (zeta + h))/d zeta =
   k sinh(k (zeta + h))``, zero along ``zeta`` where it is held),
 
-  computed as ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-k (zeta + 2 h)}) / (1 - e^{-2 k h})`` (and
-  the ``sinh`` ratio with a minus), one exponential per component, finite for every ``k h`` and exactly
-  ``e^{k zeta}`` in deep water (``h = inf``). Above the mean surface (``zeta > 0``, inside a crest) the
+  computed as ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-2 k h} e^{-k zeta}) / (1 - e^{-2 k h})``
+  (and the ``sinh`` ratio with a minus), one exponential pair per component, finite for every ``k h`` and
+  ``e^{k zeta}`` in deep water (``h = inf``). The sums over the components are twelve dot products of fixed
+  weights (:data:`UX` ...) with four terms per component (:func:`wave_terms_fast`: vectorised sine, cosine and
+  exponential of :mod:`uvms.hydro.elementary`, when every phase is within their range; else
+  :func:`wave_terms_libm`), ``docs/flow.md``, "Cost". Above the mean surface (``zeta > 0``, inside a crest) the
   kinematics are held at their ``zeta = 0`` values (constant extrapolation; linear theory says nothing there);
   below the seabed (``zeta < -h``) at the bed's.
 """
@@ -51,7 +54,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from uvms.jit import block, kernel
+from uvms.hydro.elementary import SIN_COS_LIMIT, exp_pair_reduced, sin_cos_reduced
+from uvms.jit import block, fused_kernel, kernel, sum_kernel
 
 HOLD, ZERO, ERROR = 0, 1, 2
 """A gridded field's outside policies (:attr:`FlowData.field_outside`)."""
@@ -60,6 +64,29 @@ OUTSIDE = 1
 """:attr:`FlowData.status` code: a point lay outside a field whose ``outside`` is ``"error"``."""
 _NEGLIGIBLE = -700.0
 """``k zeta`` below which a wave component's kinematics (``<= e^{k zeta}``) are dropped (exp underflows)."""
+
+WAVE_LANES = 8
+"""The wave arrays' length is padded to a multiple of this (eight float64 lanes of an AVX-512 register)."""
+WAVENUMBER, K_X, K_Y, OMEGA, PHASE, COS_B, SIN_B, AW, AW2, BED, NORM = range(11)
+"""Rows of :attr:`FlowData.wave_table`: ``k``, ``k cos b``, ``k sin b``, ``w``, ``phi``, ``cos b``, ``sin b``,
+``a w``, ``a w^2``, ``e^{-2 k h}`` (0 in deep water), ``1 / (1 - e^{-2 k h})``."""
+WAVE_ROWS = 11
+CH_C, CH_S, SH_S, SH_C = range(4)
+"""Rows of :attr:`FlowData.wave_work`: ``ch cos(theta)``, ``ch sin(theta)``, ``sh sin(theta)``, ``sh cos(theta)``
+with ``ch = cosh(k (zeta + h)) / sinh(k h)``, ``sh = sinh(k (zeta + h)) / sinh(k h)``."""
+WORK_ROWS = 4
+UX, UY, AX, AY, UZ, AZ, PCC, PCS, PSS, PSUM, QC, QS = range(12)
+"""The wave sums (:attr:`FlowData.wave_sums`; ``P = a w k ch sin(theta)``, ``Q = a w k sh cos(theta)``)::
+
+    UX = sum a w cos b ch cos    UY = sum a w sin b ch cos    UZ = sum a w sh sin      AZ = -sum a w^2 sh cos
+    AX = sum a w^2 cos b ch sin  AY = sum a w^2 sin b ch sin
+    PCC = sum P cos^2 b   PCS = sum P cos b sin b   PSS = sum P sin^2 b   PSUM = sum P
+    QC = sum Q cos b      QS = sum Q sin b
+
+each ``sum_i weight_i work_i``: the weight a row of :attr:`FlowData.wave_weights`, the work row ``CH_S`` for
+the ``sin`` sums of ``ch``, and so on (:func:`wave_sums`)."""
+N_SUMS = 12
+REACH_SIZE = 4
 
 
 class FlowData(NamedTuple):
@@ -72,25 +99,26 @@ class FlowData(NamedTuple):
     acceleration: np.ndarray    # (T, 3) [m/s^2]
     profile_depth: np.ndarray   # (K,) [m] positive down from the mean surface, increasing (K = 0: none)
     profile_velocity: np.ndarray  # (K, 3) [m/s]
+    profile_slope: np.ndarray   # (K, 3) [1/s] d velocity / d depth of the segment below each depth (last row 0)
     field_x: np.ndarray         # (nx,) [m] world (nx = 0: no field)
     field_y: np.ndarray         # (ny,)
     field_z: np.ndarray         # (nz,)
     field_t: np.ndarray         # (nt,) [s]
     field_velocity: np.ndarray  # (nt, nz, ny, nx, 3) [m/s]
     field_outside: int          # HOLD, ZERO, ERROR
-    wave_k: np.ndarray          # (M,) wave number [rad/m] (M = 0: no waves)
-    wave_omega: np.ndarray      # (M,) [rad/s]
-    wave_phase: np.ndarray      # (M,) [rad]
-    wave_cos: np.ndarray        # (M,) cos of the propagation direction
-    wave_sin: np.ndarray        # (M,) sin of the propagation direction
-    wave_aw: np.ndarray         # (M,) a w [m/s]
-    wave_aw2: np.ndarray        # (M,) a w^2 [m/s^2]
-    wave_bed: np.ndarray        # (M,) e^{-2 k h} (0 in deep water)
-    wave_norm: np.ndarray       # (M,) 1 / (1 - e^{-2 k h})
+    wave_table: np.ndarray      # (WAVE_ROWS, M) each component's constants (rows WAVENUMBER ... NORM below; M = 0: no
+                                #   waves; M a multiple of WAVE_LANES, the padding components of zero amplitude)
+    wave_weights: np.ndarray    # (N_SUMS, M) the weights of the wave sums (rows UX ... QS below)
+    wave_reach: np.ndarray      # (REACH_SIZE,) max |k cos b|, max |k sin b|, max |phi|, max w: bounds theta
+    wave_work: np.ndarray       # (WORK_ROWS, M) scratch: each component's depth factor times cos, sin theta
+    wave_sums: np.ndarray       # (N_SUMS,) scratch: the wave sums at one point
     water_depth: float          # h [m] (inf: deep)
     surface: float              # world z of the mean free surface [m]
     up: float                   # +1: world z up (enu), -1: down (ned)
     status: np.ndarray          # (1,) int64: 0, or OUTSIDE once a point lay outside an "error" field
+
+    # status, wave_work and wave_sums are written during an evaluation: one FlowData per thread
+    # (Flow.compiled makes a fresh one; every run compiles its own).
 
 
 # ------------------------------------------------------------------------------------------- kernels
@@ -154,18 +182,33 @@ def bracket(axis, value):
 @block
 def profile_add(flow, point, v_out, grad):
     """``v_out += u_profile(depth)``, ``depth = up (surface - z)``: linear in depth, held beyond the ends;
-    ``grad[:, 2] += du/dz`` (the segment's slope inside, zero where held)."""
-    depth = flow.up * (flow.surface - point[2])
-    lo, s, inside = bracket(flow.profile_depth, depth)
-    n = flow.profile_depth.shape[0]
-    hi = lo + 1 if n > 1 else lo
+    ``grad[:, 2] += du/dz`` (the segment's slope inside and at the ends themselves, zero where held).
+
+    Inside segment ``j``: ``u = V_j + (depth - d_j) slope_j`` with ``slope_j = (V_{j+1} - V_j) / (d_{j+1} - d_j)``
+    (:attr:`FlowData.profile_slope`, computed when the flow is compiled: no division per evaluation) and
+    ``du/dz = -up slope_j``."""
+    d = flow.profile_depth
     V = flow.profile_velocity
-    for k in range(3):
-        v_out[k] += (1.0 - s) * V[lo, k] + s * V[hi, k]
-    if n > 1 and inside:
-        dz = -flow.up / (flow.profile_depth[hi] - flow.profile_depth[lo])     # d depth / dz = -up
+    n = d.shape[0]
+    depth = flow.up * (flow.surface - point[2])
+    if n == 1 or depth < d[0] or depth > d[n - 1]:           # held (one depth: constant)
+        end = 0 if n == 1 or depth < d[0] else n - 1
         for k in range(3):
-            grad[k, 2] += (V[hi, k] - V[lo, k]) * dz
+            v_out[k] += V[end, k]
+        return
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if d[mid] <= depth:
+            lo = mid
+        else:
+            hi = mid
+    slope = flow.profile_slope
+    delta = depth - d[lo]
+    for k in range(3):
+        v_out[k] += V[lo, k] + delta * slope[lo, k]
+        grad[k, 2] -= flow.up * slope[lo, k]
 
 
 @block
@@ -206,10 +249,11 @@ def _width(axis, lo, inside):
     return axis[lo + 1] - axis[lo]
 
 
-@block
+@kernel
 def field_add(flow, t, point, v_out, a_out, grad):
     """``v_out += u_field``, ``a_out += du_field/dt``, ``grad += grad u_field`` at ``point`` and ``t`` (module
-    docstring: trilinear in space, linear in time, the outside policy)."""
+    docstring: trilinear in space, linear in time, the outside policy). A kernel of its own, not inlined: its
+    code is long and :func:`local_parts_add` is inlined into every dynamics algorithm."""
     ix, sx, in_x = bracket(flow.field_x, point[0])
     iy, sy, in_y = bracket(flow.field_y, point[1])
     iz, sz, in_z = bracket(flow.field_z, point[2])
@@ -245,11 +289,98 @@ def field_add(flow, t, point, v_out, a_out, grad):
             + st * _gradient(V, jt, ix, sx, iy, sy, iz, sz, k, 2, hz)
 
 
+@fused_kernel
+def wave_terms_fast(table, work, x, y, zeta, t):
+    """Each component's depth factors times ``cos theta`` and ``sin theta`` into ``work`` (rows ``CH_C`` ...
+    ``SH_C``) at ``(x, y)`` and height ``zeta`` (already held within ``[-h, 0]``), time ``t``; with the
+    vectorisable :mod:`uvms.hydro.elementary` functions, for ``|theta| <= SIN_COS_LIMIT`` (the caller checks).
+
+    ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-2 k h} e^{-k zeta}) / (1 - e^{-2 k h})`` (and ``sinh``
+    with a minus): one exponential pair per component; ``theta = x k cos b + y k sin b + (phi - w t)``."""
+    for i in range(table.shape[1]):
+        kz = table[WAVENUMBER, i] * zeta
+        live = kz >= _NEGLIGIBLE
+        e_up, e_down = exp_pair_reduced(kz if live else _NEGLIGIBLE)     # e^{k zeta}, e^{-k zeta}
+        bed = table[BED, i] * e_down                                    # e^{-k (zeta + 2 h)}
+        ch = (e_up + bed) * table[NORM, i] if live else 0.0
+        sh = (e_up - bed) * table[NORM, i] if live else 0.0
+        theta = x * table[K_X, i] + y * table[K_Y, i] + (table[PHASE, i] - table[OMEGA, i] * t)
+        s, c = sin_cos_reduced(theta)
+        work[CH_C, i] = ch * c
+        work[CH_S, i] = ch * s
+        work[SH_S, i] = sh * s
+        work[SH_C, i] = sh * c
+
+
+@kernel
+def wave_terms_libm(table, work, x, y, zeta, t):
+    """:func:`wave_terms_fast` with libm's ``cos``, ``sin``, ``exp`` (any argument: the fallback and the
+    reference), ``theta = k (x cos b + y sin b) - w t + phi``."""
+    for i in range(table.shape[1]):
+        k = table[WAVENUMBER, i]
+        kz = k * zeta
+        if kz < _NEGLIGIBLE:
+            for r in range(WORK_ROWS):
+                work[r, i] = 0.0
+            continue
+        theta = k * (x * table[COS_B, i] + y * table[SIN_B, i]) - table[OMEGA, i] * t + table[PHASE, i]
+        c = math.cos(theta)
+        s = math.sin(theta)
+        e = math.exp(kz)
+        bed = table[BED, i] / e                  # e^{-k (zeta + 2 h)}
+        ch = (e + bed) * table[NORM, i]          # cosh(k (zeta + h)) / sinh(k h)
+        sh = (e - bed) * table[NORM, i]          # sinh(k (zeta + h)) / sinh(k h)
+        work[CH_C, i] = ch * c
+        work[CH_S, i] = ch * s
+        work[SH_S, i] = sh * s
+        work[SH_C, i] = sh * c
+
+
+@sum_kernel
+def wave_sums(weights, work, out):
+    """The wave sums ``out[j] = sum_i weights[j, i] work[row(j), i]`` (rows ``UX`` ... ``QS``: the module
+    constants' docstring), as dot products over the components (reassociated: vectorised)."""
+    ux = uy = ax = ay = uz = az = p_cc = p_cs = p_ss = p_sum = q_c = q_s = 0.0
+    for i in range(work.shape[1]):
+        ch_c = work[CH_C, i]
+        ch_s = work[CH_S, i]
+        sh_s = work[SH_S, i]
+        sh_c = work[SH_C, i]
+        ux += weights[UX, i] * ch_c
+        uy += weights[UY, i] * ch_c
+        ax += weights[AX, i] * ch_s
+        ay += weights[AY, i] * ch_s
+        uz += weights[UZ, i] * sh_s
+        az += weights[AZ, i] * sh_c
+        p_cc += weights[PCC, i] * ch_s
+        p_cs += weights[PCS, i] * ch_s
+        p_ss += weights[PSS, i] * ch_s
+        p_sum += weights[PSUM, i] * ch_s
+        q_c += weights[QC, i] * sh_c
+        q_s += weights[QS, i] * sh_c
+    out[UX] = ux
+    out[UY] = uy
+    out[AX] = ax
+    out[AY] = ay
+    out[UZ] = uz
+    out[AZ] = az
+    out[PCC] = p_cc
+    out[PCS] = p_cs
+    out[PSS] = p_ss
+    out[PSUM] = p_sum
+    out[QC] = q_c
+    out[QS] = q_s
+
+
 @block
 def waves_add(flow, t, point, v_out, a_out, grad):
     """``v_out += u_waves``, ``a_out += du_waves/dt``, ``grad += grad u_waves``: the linear (Airy) kinematics of
     every component at ``point`` and ``t`` (module docstring), held at the mean surface above it and at the bed
-    below it (there the vertical derivatives are zero)."""
+    below it (there the vertical derivatives are zero).
+
+    The components' terms come from :func:`wave_terms_fast` when every phase is within the polynomials' range
+    (``|theta| <= |x| max|k cos b| + |y| max|k sin b| + max|phi| + max w |t| <= SIN_COS_LIMIT``), else (and for
+    a non-finite point) from :func:`wave_terms_libm`; then the sums (:func:`wave_sums`)."""
     up = flow.up
     zeta = up * (point[2] - flow.surface)
     held = 1.0
@@ -261,54 +392,49 @@ def waves_add(flow, t, point, v_out, a_out, grad):
         held = 0.0
     x = point[0]
     y = point[1]
-    uh_x = uh_y = uz = ah_x = ah_y = az = 0.0
-    p_cc = p_cs = p_ss = p_sum = q_c = q_s = 0.0      # sums of P = a w k ch sin(theta), Q = a w k sh cos(theta)
-    for i in range(flow.wave_k.shape[0]):
-        k = flow.wave_k[i]
-        kz = k * zeta
-        if kz < _NEGLIGIBLE:
-            continue
-        cb = flow.wave_cos[i]
-        sb = flow.wave_sin[i]
-        theta = k * (x * cb + y * sb) - flow.wave_omega[i] * t + flow.wave_phase[i]
-        c = math.cos(theta)
-        s = math.sin(theta)
-        e = math.exp(kz)
-        bed = flow.wave_bed[i] / e               # e^{-k (zeta + 2 h)}
-        ch = (e + bed) * flow.wave_norm[i]       # cosh(k (zeta + h)) / sinh(k h)
-        sh = (e - bed) * flow.wave_norm[i]       # sinh(k (zeta + h)) / sinh(k h)
-        u = flow.wave_aw[i] * ch * c
-        du = flow.wave_aw2[i] * ch * s
-        uh_x += u * cb
-        uh_y += u * sb
-        ah_x += du * cb
-        ah_y += du * sb
-        uz += flow.wave_aw[i] * sh * s
-        az -= flow.wave_aw2[i] * sh * c
-        P = flow.wave_aw[i] * k * ch * s
-        Q = flow.wave_aw[i] * k * sh * c
-        p_cc += P * cb * cb
-        p_cs += P * cb * sb
-        p_ss += P * sb * sb
-        p_sum += P
-        q_c += Q * cb
-        q_s += Q * sb
-    v_out[0] += uh_x
-    v_out[1] += uh_y
-    v_out[2] += up * uz
-    a_out[0] += ah_x
-    a_out[1] += ah_y
-    a_out[2] += up * az
+    reach = flow.wave_reach
+    bound = abs(x) * reach[0] + abs(y) * reach[1] + reach[2] + reach[3] * abs(t)
+    if bound <= SIN_COS_LIMIT and zeta == zeta:
+        wave_terms_fast(flow.wave_table, flow.wave_work, x, y, zeta, t)
+    else:
+        wave_terms_libm(flow.wave_table, flow.wave_work, x, y, zeta, t)
+    S = flow.wave_sums
+    wave_sums(flow.wave_weights, flow.wave_work, S)
+    v_out[0] += S[UX]
+    v_out[1] += S[UY]
+    v_out[2] += up * S[UZ]
+    a_out[0] += S[AX]
+    a_out[1] += S[AY]
+    a_out[2] += up * S[AZ]
     vz = up * held                               # d zeta / dz where it is not held
-    grad[0, 0] -= p_cc
-    grad[0, 1] -= p_cs
-    grad[0, 2] += q_c * vz
-    grad[1, 0] -= p_cs
-    grad[1, 1] -= p_ss
-    grad[1, 2] += q_s * vz
-    grad[2, 0] += up * q_c
-    grad[2, 1] += up * q_s
-    grad[2, 2] += up * vz * p_sum
+    grad[0, 0] -= S[PCC]
+    grad[0, 1] -= S[PCS]
+    grad[0, 2] += S[QC] * vz
+    grad[1, 0] -= S[PCS]
+    grad[1, 1] -= S[PSS]
+    grad[1, 2] += S[QS] * vz
+    grad[2, 0] += up * S[QC]
+    grad[2, 1] += up * S[QS]
+    grad[2, 2] += up * vz * S[PSUM]
+
+
+@block
+def local_parts_add(flow, t, point, v_out, a_out, grad):
+    """The parts that vary in space at the world ``point`` (3,) and time ``t``, added to ``v_out``, ``a_out``
+    (world, (3,); holding the uniform part, :func:`uniform_at`): profile, field and waves, then the convective
+    acceleration ``a_out += (grad u) u`` (module docstring); ``grad`` (3, 3) is scratch, left holding
+    ``grad[r, c] = du_r/dx_c``."""
+    for r in range(3):
+        for c in range(3):
+            grad[r, c] = 0.0
+    if flow.profile_depth.shape[0] > 0:
+        profile_add(flow, point, v_out, grad)
+    if flow.field_x.shape[0] > 0:
+        field_add(flow, t, point, v_out, a_out, grad)
+    if flow.wave_table.shape[1] > 0:
+        waves_add(flow, t, point, v_out, a_out, grad)
+    for r in range(3):
+        a_out[r] += grad[r, 0] * v_out[0] + grad[r, 1] * v_out[1] + grad[r, 2] * v_out[2]
 
 
 @kernel
@@ -317,17 +443,7 @@ def fluid_at(flow, t, point, v_out, a_out, grad):
     world ``point`` (3,) and time ``t``: the sum of the flow's parts, then ``a_out += (grad u) u``
     (module docstring); ``grad`` (3, 3) is scratch, left holding ``grad[r, c] = du_r/dx_c``."""
     uniform_at(flow, t, v_out, a_out)
-    for r in range(3):
-        for c in range(3):
-            grad[r, c] = 0.0
-    if flow.profile_depth.shape[0] > 0:
-        profile_add(flow, point, v_out, grad)
-    if flow.field_x.shape[0] > 0:
-        field_add(flow, t, point, v_out, a_out, grad)
-    if flow.wave_k.shape[0] > 0:
-        waves_add(flow, t, point, v_out, a_out, grad)
-    for r in range(3):
-        a_out[r] += grad[r, 0] * v_out[0] + grad[r, 1] * v_out[1] + grad[r, 2] * v_out[2]
+    local_parts_add(flow, t, point, v_out, a_out, grad)
 
 
 @kernel
@@ -429,14 +545,15 @@ class Flow:
             a, w, k, b, phase, h = self.waves
         else:
             a, w, k, b, phase, h = _empty(), _empty(), _empty(), _empty(), _empty(), math.inf
-        bed = np.exp(-2.0 * k * h) if math.isfinite(h) else np.zeros_like(k)
+        table, weights, reach = _wave_arrays(a, w, k, b, phase, h)
         return FlowData(
             uniform_only=self.profile is None and self.field is None and self.waves is None,
             times=self.times.copy(), velocity=self.velocity.copy(), acceleration=self.acceleration.copy(),
-            profile_depth=depth.copy(), profile_velocity=pv.copy(), field_x=fx.copy(), field_y=fy.copy(),
+            profile_depth=depth.copy(), profile_velocity=pv.copy(), profile_slope=_profile_slope(depth, pv),
+            field_x=fx.copy(), field_y=fy.copy(),
             field_z=fz.copy(), field_t=ft.copy(), field_velocity=fv.copy(), field_outside=int(outside),
-            wave_k=k.copy(), wave_omega=w.copy(), wave_phase=phase.copy(), wave_cos=np.cos(b), wave_sin=np.sin(b),
-            wave_aw=a * w, wave_aw2=a * w * w, wave_bed=bed, wave_norm=1.0 / (1.0 - bed), water_depth=float(h),
+            wave_table=table, wave_weights=weights, wave_reach=reach, wave_work=np.zeros((WORK_ROWS, table.shape[1])),
+            wave_sums=np.zeros(N_SUMS), water_depth=float(h),
             surface=float(self.surface), up=up, status=np.zeros(1, dtype=np.int64))
 
     def at(self, t: float, points, convention: str = "ned") -> tuple[np.ndarray, np.ndarray]:
@@ -459,6 +576,44 @@ class Flow:
         fluid_at_points(flow, t, points, v, a, grad)
         check_status(flow)
         return v, a, grad
+
+
+def _profile_slope(depth: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+    """:attr:`FlowData.profile_slope`: each segment's ``(V_{j+1} - V_j) / (d_{j+1} - d_j)``, zero after the last
+    depth."""
+    slope = np.zeros_like(velocity)
+    if depth.shape[0] > 1:
+        slope[:-1] = np.diff(velocity, axis=0) / np.diff(depth)[:, None]
+    return slope
+
+
+def _wave_arrays(a, w, k, b, phase, h) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:attr:`FlowData.wave_table`, ``wave_weights`` and ``wave_reach`` of components of amplitude ``a``,
+    frequency ``w``, wave number ``k``, direction ``b``, phase ``phase`` (each (M,)) in water ``h`` deep,
+    padded to a multiple of :data:`WAVE_LANES` with copies of the last component of zero amplitude (every
+    weight zero, every term finite)."""
+    m = a.shape[0]
+    padded = -(-m // WAVE_LANES) * WAVE_LANES
+    table = np.zeros((WAVE_ROWS, padded))
+    weights = np.zeros((N_SUMS, padded))
+    if m == 0:
+        return table, weights, np.zeros(REACH_SIZE)
+    fill = np.arange(padded).clip(max=m - 1)                # the padding repeats the last component ...
+    amplitude = np.where(np.arange(padded) < m, a[fill], 0.0)  # ... with zero amplitude
+    k, w, b, phase = k[fill], w[fill], b[fill], phase[fill]
+    bed = np.exp(-2.0 * k * h) if math.isfinite(h) else np.zeros_like(k)
+    cb, sb = np.cos(b), np.sin(b)
+    aw, aw2 = amplitude * w, amplitude * w * w
+    table[WAVENUMBER], table[K_X], table[K_Y], table[OMEGA], table[PHASE] = k, k * cb, k * sb, w, phase
+    table[COS_B], table[SIN_B], table[AW], table[AW2] = cb, sb, aw, aw2
+    table[BED], table[NORM] = bed, 1.0 / (1.0 - bed)
+    awk = aw * k
+    weights[UX], weights[UY], weights[AX], weights[AY] = aw * cb, aw * sb, aw2 * cb, aw2 * sb
+    weights[UZ], weights[AZ] = aw, -aw2
+    weights[PCC], weights[PCS], weights[PSS], weights[PSUM] = awk * cb * cb, awk * cb * sb, awk * sb * sb, awk
+    weights[QC], weights[QS] = awk * cb, awk * sb
+    reach = np.array([np.abs(table[K_X]).max(), np.abs(table[K_Y]).max(), np.abs(phase).max(), w.max()])
+    return table, weights, reach
 
 
 def uniform_flow_data(times, velocity, acceleration) -> FlowData:
