@@ -12,6 +12,7 @@ from tests.replays.synthetic import write_log
 from uvms.cli import main
 from uvms.identify import Experiment, identify
 from uvms.identify.experiment import result_signals
+from uvms.identify.fit import Bounds, parse_parameter
 from uvms.identify.write import write_fitted_model
 from uvms.model.parameters import with_parameters
 from uvms.rotations import quaternion_from_euler
@@ -83,3 +84,8 @@ def test_a_bad_point_load_or_disturbance_name_exits_2_in_one_line(tmp_path, caps
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
     assert not out.exists()
+
+
+def test_the_fit_form_takes_point_load_names_and_negative_bounds():
+    assert parse_parameter("point_load:foam.x=-0.2:0.1") == ("point_load:foam.x", Bounds(-0.2, 0.1))
+    assert parse_parameter("disturbance.surge=-5:5") == ("disturbance.surge", Bounds(-5.0, 5.0))
