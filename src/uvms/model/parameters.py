@@ -12,7 +12,7 @@ loads included), body axes, SI units:
 | ``damping.linear.<axis>`` | diagonal of Fossen's ``D_l`` of the body (``damping_linear[b]``) | N s/m, N m s/rad |
 | ``damping.quadratic.<axis>`` | diagonal of ``D_q`` (``damping_quadratic[b]``) | N s^2/m^2, N m s^2/rad^2 |
 | ``added_mass.<axis>`` | diagonal of the added-mass matrix about the body origin (``added_mass[b]``) | kg m^2, kg |
-| ``disturbance.<axis>`` | entry of the vehicle's constant disturbance wrench (``disturbance_wrench``, body axes; vehicle only; may be negative) | N m, N |
+| ``disturbance.<axis>`` | vehicle only: ``disturbance_wrench``, body axes (may be negative) | N m, N |
 | ``point_load:<name>.mass`` | point mass of the model's point load ``<name>`` (``point_loads``) | kg |
 | ``point_load:<name>.fluid_mass`` | displaced-fluid mass of that point load | kg |
 | ``point_load:<name>.x``, ``.y``, ``.z`` | its position, in the frame of the body it is on | m |
@@ -188,7 +188,8 @@ _SIGNED = ("cob", "point_load.position", "disturbance_wrench")
 
 
 def _with_point_loads_set(model, settings: list[tuple[Parameter, float]]):
-    """``model`` with the point-load parameters set, one fold per load (:func:`uvms.model.loads.with_point_load_set`)."""
+    """``model`` with the point-load parameters set, one fold per load
+    (:func:`uvms.model.loads.with_point_load_set`)."""
     from uvms.model.loads import point_load, with_point_load_set
 
     per_load: dict[str, dict] = {}
