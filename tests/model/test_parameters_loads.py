@@ -113,3 +113,14 @@ def test_a_disturbance_on_a_link_in_a_model_file_is_one_line_naming_the_file(tmp
     (tmp_path / "bad.yaml").write_text(PAPER + _loads() + "\nidentified:\n  parameters: {link2:disturbance.yaw: 1}\n")
     with pytest.raises(UvmsInputError, match=r"bad.yaml: identified.parameters: .*vehicle only"):
         uvms.load_model(tmp_path / "bad.yaml")
+
+
+def test_validate_reports_a_disturbance_only_when_there_is_one():
+    from uvms.analysis.report import model_report
+
+    base = uvms.load_model("paper")
+    assert "disturbance" not in model_report(base).table()
+    assert "disturbance_wrench_KMN_Nm_XYZ_N" not in model_report(base).to_dict()
+    report = model_report(with_parameters(base, {"disturbance.surge": 2.5, "disturbance.yaw": -0.5}))
+    assert "disturbance wrench:     (0, 0, -0.5) N m (K, M, N), (2.5, 0, 0) N (X, Y, Z)" in report.table()
+    assert report.to_dict()["disturbance_wrench_KMN_Nm_XYZ_N"] == [0.0, 0.0, -0.5, 2.5, 0.0, 0.0]
