@@ -138,6 +138,9 @@ class ModelReport:
     frame: str = "ned"
     hydro_sources: tuple[tuple[str, str], ...] = ()
     """Which tag of a Gazebo file each hydrodynamic number came from (:attr:`uvms.model.model.Model.hydro_sources`)."""
+    disturbance_wrench: tuple[float, ...] = ()
+    """The model's constant disturbance wrench ``[K M N X Y Z]`` [N m, N] when it is not zero, else empty (it acts in
+    every run, not in the statics or the trim above; ``docs/models.md``, "Disturbance wrench")."""
 
     def table(self) -> str:
         """The report as aligned text lines (what ``uvms validate`` prints after its summary)."""
@@ -170,6 +173,10 @@ class ModelReport:
         if self.hydro_sources:
             lines.append("hydrodynamics read from the file's tags:")
             lines.extend(f"  {what}: {tag}" for what, tag in self.hydro_sources)
+        if self.disturbance_wrench:
+            lines.append(f"disturbance wrench:     {vec(self.disturbance_wrench[:3], 'N m')} (K, M, N), "
+                         f"{vec(self.disturbance_wrench[3:], 'N')} (X, Y, Z), body axes: in every run, not in the "
+                         "statics above")
         lines.extend(f"warning: {w}" for w in self.warnings)
         return "\n".join(lines)
 
@@ -193,6 +200,8 @@ class ModelReport:
         trim = None if self.trim_roll_rad is None else {"roll_rad": self.trim_roll_rad,
                                                         "pitch_rad": self.trim_pitch_rad}
         sources = {"hydro_sources": dict(self.hydro_sources)} if self.hydro_sources else {}
+        if self.disturbance_wrench:
+            sources["disturbance_wrench_KMN_Nm_XYZ_N"] = list(self.disturbance_wrench)
         return {**sources, 
             "model": self.model_name,
             "frame": self.frame,
@@ -318,4 +327,6 @@ def model_report(model, q=None, *, controller=None) -> ModelReport:
         trim_note=note, thrust_forward_N=forward, thrust_reverse_N=reverse, thrust_method=THRUST_METHOD,
         n_thrusters=len(thrusters), allocation_rank=rank, missing_axes=missing, effective_inertia=inertia,
         b_bounds=bounds, warnings=warnings, frame=model.convention,
-        hydro_sources=tuple(getattr(model, "hydro_sources", ())))
+        hydro_sources=tuple(getattr(model, "hydro_sources", ())),
+        disturbance_wrench=tuple(float(x) for x in model.disturbance_wrench) if np.any(model.disturbance_wrench)
+        else ())

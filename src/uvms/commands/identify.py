@@ -26,7 +26,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="log description files or bundled logs/patterns (e.g. 'hinsdale_2023/traj0*')")
     parser.add_argument("--fit", required=True, metavar="P,P,...",
                         help="parameters to fit, comma-separated, each NAME or NAME=LOWER:UPPER (e.g. "
-                             "buoyancy,cob.x,cob.z=-0.05:0.05,damping.linear.pitch)")
+                             "buoyancy,cob.x,cob.z=-0.05:0.05,damping.linear.pitch,point_load:foam.fluid_mass,"
+                             "disturbance.surge=-5:5; docs/logs.md, Identification)")
     parser.add_argument("--held-out", nargs="+", default=[], metavar="LOG",
                         help="logs scored before and after, never fitted")
     parser.add_argument("--exclude", nargs="+", default=[], metavar="LOG",

@@ -62,6 +62,8 @@ class KernelModel(NamedTuple):
     ee_E: np.ndarray            # (3, 3) body-to-end-effector coordinate rotation
     ee_r: np.ndarray            # (3,) end-effector origin in body coordinates [m]
     gravity: np.ndarray         # (3,) world gravitational acceleration a_g [m/s^2]
+    disturbance: np.ndarray     # (6,) the model's constant disturbance wrench on the vehicle, body axes
+                                #   [moment; force] [N m, N] (Model.disturbance_wrench; read by stage_inputs only)
 
 
 ADDED_MASS, DRAG, BUOYANCY, GRAVITY = 0, 1, 2, 3
@@ -175,6 +177,7 @@ def kernel_model_from(model) -> KernelModel:
         ee_E=np.array(model.ee_rotation, dtype=float).T.copy(),
         ee_r=np.array(model.ee_position, dtype=float),
         gravity=np.array(model.gravity, dtype=float),
+        disturbance=np.array(model.disturbance_wrench, dtype=float),
     )
 
 

@@ -141,7 +141,8 @@ def empty_model_data() -> ModelData:
                        joint_kind=none(1, np.int64), S=none(2), inertia=none(3), inertia_h=none(3), added_mass=none(3),
                        mass=none(1), com=none(2), fluid_mass=none(1), cob=none(2), vehicle_drag_linear=none(1),
                        vehicle_drag_angular=none(1), cylinder=none(3), fossen=none(3), shapes=none(3), ee_body=0,
-                       ee_E=none(2), ee_r=none(1), gravity=none(1))
+                       ee_E=none(2), ee_r=none(1), gravity=none(1),
+                       disturbance=none(1))
     work = Workspace(*[none(a.ndim, a.dtype) for a in make_workspace(0)])
     return ModelData(body=body, work=work)
 

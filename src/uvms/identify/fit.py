@@ -49,12 +49,15 @@ class Bounds:
 
 
 def default_bounds(p: Parameter, value: float) -> Bounds:
-    """Bounds when none are given: a buoyancy within 50 % of its value, a centre within 0.1 m, a damping or
-    added-mass entry between 0 and ten times its value (or 10 when it is zero)."""
-    if p.field == "buoyancy_mass":
+    """Bounds when none are given: a buoyancy or a point load's mass or fluid mass within 50 % of its value
+    (0 to 1 kg when it is zero), a centre or a point load's position within 0.1 m, a disturbance within 10 N m or
+    10 N of its value, a damping or added-mass entry between 0 and ten times its value (or 10 when it is zero)."""
+    if p.field in ("buoyancy_mass", "point_load.mass", "point_load.fluid_mass"):
         return Bounds(0.5 * value, 1.5 * value) if value > 0 else Bounds(0.0, 1.0)
-    if p.field == "cob":
+    if p.field in ("cob", "point_load.position"):
         return Bounds(value - 0.1, value + 0.1)
+    if p.field == "disturbance_wrench":
+        return Bounds(value - 10.0, value + 10.0)
     return Bounds(0.0, 10.0 * value if value > 0 else 10.0)
 
 

@@ -157,7 +157,7 @@ def build_model(spec: ModelSpec, source: str | None = None) -> Model:
         shape_count=np.array([len(x) for x in shapes]),
         convention=spec.frame,
     )
-    return with_point_loads(model, spec.point_loads, source)
+    return with_disturbance(with_point_loads(model, spec.point_loads, source), spec.disturbance_wrench)
 
 
 def _cylinder_rotation(axis) -> np.ndarray:
@@ -241,7 +241,7 @@ def build_urdf_model(spec: UrdfModelSpec, urdf_path, source: str | None = None, 
         weights = [(None, vehicle.weight)] if vehicle.weight is not None else []
         weights += [(name, link.weight) for name, link in spec.links.items() if link.weight is not None]
         model = with_dry_weight(model, weights, source)
-    return with_point_loads(model, spec.point_loads, source)
+    return with_disturbance(with_point_loads(model, spec.point_loads, source), spec.disturbance_wrench)
 
 
 def xacro_options(spec: UrdfModelSpec, source: str | None, granted: frozenset = frozenset()):
@@ -267,3 +267,10 @@ def xacro_options(spec: UrdfModelSpec, source: str | None, granted: frozenset = 
                              source, "allow_environment")
     return XacroOptions(package_paths=packages, allow_environment=spec.allow_environment,
                         args=dict(spec.xacro_args))
+
+
+def with_disturbance(model, wrench):
+    """``model`` with the file's ``disturbance_wrench`` (6 values, vehicle body axes, ``[moment; force]``)
+    [N m, N]; the model itself when it is zero (``docs/models.md``, "Disturbance wrench")."""
+    w = np.array(wrench, dtype=float)
+    return model.replace(disturbance_wrench=w) if np.any(w != 0.0) else model

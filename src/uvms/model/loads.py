@@ -14,14 +14,44 @@ The **weight** of a body is its own pair ``(weight_mass, weight_center)`` (:attr
 :attr:`Model.weight_center`); it is the inertial ``(mass, com)`` unless a model says otherwise: the dry mass
 of a URDF whose inertias include added mass, or weight-only point loads. Gravity, trim, the validate report and
 the potential energy read only these two.
+
+A built model remembers its named point loads (:class:`PointLoad`, :attr:`Model.point_loads`), so that one may
+be changed afterwards (:func:`with_point_load_set`, the ``point_load:<name>.*`` parameters of
+:mod:`uvms.model.parameters`): the first moments and the inertia about the body origin are linear in the point
+mass, so folding the old load with a negative mass (and fluid mass) removes it exactly, and folding the new one
+adds it.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from uvms.errors import UvmsInputError
 from uvms.spatial import skew
+
+
+@dataclass(frozen=True, eq=False)
+class PointLoad:
+    """A named point load folded into a built model: on ``body`` (index) at ``position`` (body frame) [m], a
+    point ``mass`` [kg] (with ``inertial`` also in the body's inertia, else in its weight only) and
+    ``fluid_mass`` [kg] of displaced fluid centred there."""
+
+    name: str
+    body: int
+    position: np.ndarray
+    mass: float = 0.0
+    fluid_mass: float = 0.0
+    inertial: bool = True
+
+    def __post_init__(self) -> None:
+        position = np.array(self.position, dtype=float).reshape(3)
+        position.setflags(write=False)
+        object.__setattr__(self, "position", position)
+        object.__setattr__(self, "body", int(self.body))
+        object.__setattr__(self, "mass", float(self.mass))
+        object.__setattr__(self, "fluid_mass", float(self.fluid_mass))
 
 
 def _point_inertia(mass: float, r: np.ndarray) -> np.ndarray:
@@ -37,14 +67,53 @@ def _add_first_moment(mass: float, centre: np.ndarray, m_p: float, r: np.ndarray
 
 
 def with_point_load(model, body: int, position, *, mass: float = 0.0, fluid_mass: float = 0.0,
-                    inertial: bool = True):
+                    inertial: bool = True, name: str | None = None):
     """A copy of ``model`` with a point load on ``body`` at ``position`` (body frame) [m]: a point mass ``mass``
     [kg] (added to the weight, and with ``inertial`` to the rigid-body mass, centre of mass and inertia) and
-    ``fluid_mass`` [kg] of displaced fluid centred there (module docstring)."""
+    ``fluid_mass`` [kg] of displaced fluid centred there (module docstring). A ``name`` (unique in the model)
+    makes the model remember the load (:attr:`Model.point_loads`)."""
+    out = _fold(model, body, position, mass, fluid_mass, inertial)
+    if name is None:
+        return out
+    if any(p.name == name for p in model.point_loads):
+        raise ValueError(f"the model already has a point load named {name!r}")
+    return out.replace(point_loads=model.point_loads + (PointLoad(name, body, position, mass, fluid_mass, inertial),))
+
+
+def point_load(model, name: str) -> PointLoad:
+    """The point load called ``name`` of ``model``; an unknown name is one line listing the model's loads."""
+    for p in model.point_loads:
+        if p.name == name:
+            return p
+    raise UvmsInputError(f"no point load {name!r} in model {model.name!r} (point loads: "
+                         f"{', '.join(p.name for p in model.point_loads) or 'none'})")
+
+
+def with_point_load_set(model, name: str, *, mass: float | None = None, fluid_mass: float | None = None,
+                        position=None):
+    """A copy of ``model`` whose point load ``name`` has the given ``mass``, ``fluid_mass`` [kg] and/or
+    ``position`` (body frame) [m] (the others kept): the old load is folded out with negative masses and the new
+    one folded in (module docstring), so the result equals the model built with the new load."""
+    old = point_load(model, name)
+    new = replace(old, mass=old.mass if mass is None else mass,
+                  fluid_mass=old.fluid_mass if fluid_mass is None else fluid_mass,
+                  position=old.position if position is None else position)
+    if np.array_equal(new.position, old.position):
+        out = _fold(model, old.body, old.position, new.mass - old.mass, new.fluid_mass - old.fluid_mass,
+                    old.inertial)
+    else:
+        out = _fold(model, old.body, old.position, -old.mass, -old.fluid_mass, old.inertial)
+        out = _fold(out, new.body, new.position, new.mass, new.fluid_mass, new.inertial)
+    return out.replace(point_loads=tuple(new if p.name == name else p for p in model.point_loads))
+
+
+def _fold(model, body: int, position, mass: float, fluid_mass: float, inertial: bool):
+    """``model`` with a point mass ``mass`` and fluid mass ``fluid_mass`` folded into ``body`` at ``position``
+    (module docstring); negative masses fold a load out."""
     r = np.asarray(position, dtype=float)
     changes: dict = {}
-    dry = model.dry_mass is not None or (mass > 0.0 and not inertial)
-    if mass > 0.0:
+    dry = model.dry_mass is not None or (mass != 0.0 and not inertial)
+    if mass != 0.0:
         weight, centre = np.array(model.weight_mass, dtype=float), np.array(model.weight_center, dtype=float)
         weight[body], centre[body] = _add_first_moment(weight[body], centre[body], mass, r)
         if dry:
@@ -57,7 +126,7 @@ def with_point_load(model, body: int, position, *, mass: float = 0.0, fluid_mass
             m[body], com[body] = _add_first_moment(m0, c0, mass, r)
             inertia[body] = inertia[body] + _point_inertia(m0, c0 - com[body]) + _point_inertia(mass, r - com[body])
             changes.update(mass=m, com=com, inertia_com=inertia)
-    if fluid_mass > 0.0:
+    if fluid_mass != 0.0:
         fluid, cob = np.array(model.buoyancy_mass, dtype=float), np.array(model.cob, dtype=float)
         fluid[body], cob[body] = _add_first_moment(fluid[body], cob[body], fluid_mass, r)
         changes.update(buoyancy_mass=fluid, cob=cob)
@@ -79,7 +148,7 @@ def with_point_loads(model, loads, source: str | None = None):
     for k, load in enumerate(loads):
         body, r = _frame_point(model, load.body, load.position, source, f"point_loads[{k}].body")
         model = with_point_load(model, body, r, mass=float(load.mass or 0.0),
-                                fluid_mass=load.fluid_mass(model.density), inertial=load.inertial)
+                                fluid_mass=load.fluid_mass(model.density), inertial=load.inertial, name=load.name)
     return model
 
 

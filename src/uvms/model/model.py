@@ -122,6 +122,13 @@ class Model:
             ``docs/conventions.md``, "Frames"): ``"ned"`` (world z down, vehicle forward-right-down, the default)
             or ``"enu"`` (world z up, vehicle forward-left-up, ROS REP 103). :meth:`in_frame` rewrites a model
             in the other one.
+        point_loads: the named point loads folded into the bodies (:class:`uvms.model.loads.PointLoad`: name,
+            body, position in the body frame, mass, fluid mass, inertial), remembered so that a parameter can
+            change one (:func:`uvms.model.loads.with_point_load_set`); empty by default.
+        disturbance_wrench: (6,) constant external wrench on the vehicle, body axes, ``[moment; force]``
+            ``[K M N X Y Z]`` [N m, N] (zero by default): added to the held body wrench in every simulation's
+            state derivative (:func:`uvms.sim.integrate.stage_inputs`; ``docs/conventions.md``, "Where a model's
+            disturbance wrench enters").
     """
 
     name: str
@@ -172,6 +179,8 @@ class Model:
     dry_mass: Any = None
     dry_com: Any = None
     convention: str = "ned"
+    point_loads: Any = ()
+    disturbance_wrench: Any = None
     hydro_sources: tuple[tuple[str, str], ...] = ()
     """``(("<link>: <quantity>", "<tag>"), ...)``: which tag of a Gazebo file each hydrodynamic number came
     from (``uvms validate`` lists them; empty for other files)."""
@@ -196,6 +205,8 @@ class Model:
             "damping_cross": np.zeros((n + 1, 2, 6, 6, 6)),
             "shape_drag": np.zeros((n + 1, 0, 19)),
             "shape_count": np.zeros(n + 1, dtype=np.int64),
+            "disturbance_wrench": np.zeros(6),
+            "point_loads": (),
         }
         for name, value in defaults.items():
             if getattr(self, name) is None:
@@ -215,8 +226,9 @@ class Model:
                      "ee_position", "gravity", "current", "fluid_acceleration", "joint_axis", "joint_damping",
                      "joint_friction", "joint_friction_speed", "joint_limits", "link_cylinder_rotation",
                      "link_cylinder_origin", "damping_linear", "damping_quadratic", "damping_point", "damping_cross",
-                     "shape_drag"):
+                     "shape_drag", "disturbance_wrench"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
+        object.__setattr__(self, "point_loads", tuple(self.point_loads))
         object.__setattr__(self, "shape_count", _frozen(np.reshape(self.shape_count, n + 1), dtype=np.int64))
         if (self.dry_mass is None) != (self.dry_com is None):
             raise ValueError("dry_mass and dry_com are given together or not at all")
@@ -385,7 +397,8 @@ class Model:
             shape_drag=self.shape_drag[:1], shape_count=self.shape_count[:1],
             dry_mass=None if self.dry_mass is None else self.dry_mass[:1],
             dry_com=None if self.dry_com is None else self.dry_com[:1],
-            convention=self.convention,
+            convention=self.convention, point_loads=tuple(p for p in self.point_loads if p.body == 0),
+            disturbance_wrench=self.disturbance_wrench,
         )
 
     def in_frame(self, frame: str) -> "Model":
@@ -438,6 +451,8 @@ class Model:
         thrusters = tuple(replace_dataclass(t, position=tuple(fr.convert_vectors(t.position, src, frame)),
                                             direction=tuple(fr.convert_vectors(t.direction, src, frame)))
                           for t in self.thrusters)
+        point_loads = tuple(replace_dataclass(p, position=fr.convert_vectors(p.position, src, frame))
+                            if p.body == 0 else p for p in self.point_loads)
         H = fr.HALF_TURN
         inertia = np.array(self.inertia_com)
         inertia[0] = H @ inertia[0] @ H
@@ -453,7 +468,8 @@ class Model:
             thrusters=thrusters, gravity=fr.convert_vectors(self.gravity, src, frame),
             current=fr.convert_vectors(self.current, src, frame),
             fluid_acceleration=fr.convert_vectors(self.fluid_acceleration, src, frame), convention=frame,
-            dry_com=None if self.dry_com is None else body0(self.dry_com, fr.convert_vectors))
+            dry_com=None if self.dry_com is None else body0(self.dry_com, fr.convert_vectors),
+            point_loads=point_loads, disturbance_wrench=fr.convert_twists(self.disturbance_wrench, src, frame))
 
     # -- short summaries for the console and notebooks (not kilobytes of arrays)
 
@@ -480,7 +496,7 @@ _TREE_FIELDS = ("joint_names", "joint_parent", "joint_type", "joint_axis", "join
                 "joint_friction_speed", "joint_limits", "link_cylinder_rotation", "link_cylinder_origin", "ee_body",
                 "frames", "damping_linear", "damping_quadratic", "damping_point", "damping_cross", "shape_drag",
                 "shape_count",
-                "dry_mass", "dry_com")
+                "dry_mass", "dry_com", "point_loads")
 
 def _scale_shape_drag(table: np.ndarray, factor: float) -> np.ndarray:
     """A copy of shape drag tables with the drag coefficients (columns ``COL_COEFFICIENTS..``) scaled."""

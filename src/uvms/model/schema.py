@@ -27,6 +27,7 @@ from pydantic import (
 
 from uvms.schema_base import (  # noqa: F401  (the kit's names, re-exported for model code)
     ZERO3,
+    ZERO6,
     Mat3,
     Mat6,
     Name,
@@ -616,6 +617,7 @@ class ModelSpec(Spec):
     thrusters: Thrusters = ()
     identified: IdentifiedSpec = IdentifiedSpec()   # parameters set after building (uvms identify)
     point_loads: PointLoads = ()                  # point masses and buoyancies on any body (uvms.model.loads)
+    disturbance_wrench: Vec6 = ZERO6              # constant wrench on the vehicle, body axes [K M N X Y Z] [N m, N]
 
 
 # --- a URDF and its additions (docs/models.md, "URDF") ----------------------------------------------------
@@ -732,6 +734,7 @@ class UrdfModelSpec(Spec):
     xacro_args: dict[Name, Annotated[str, Strict()]] = {}  # xacro <xacro:arg> values ($(arg name))
     identified: IdentifiedSpec = IdentifiedSpec()   # parameters set after building (uvms identify)
     point_loads: PointLoads = ()                  # point masses and buoyancies on any link (uvms.model.loads)
+    disturbance_wrench: Vec6 = ZERO6              # constant wrench on the vehicle, body axes [K M N X Y Z] [N m, N]
     inertia_includes_added_mass: Annotated[bool, Strict()] = False  # the URDF's inertial masses hold added mass
 
     @model_validator(mode="after")

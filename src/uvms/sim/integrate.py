@@ -75,8 +75,13 @@ def stage_inputs(plant, held, t, x, xdot):
     """The part of ``xdot = f(t, x)`` shared by every derivative (:func:`state_derivative`,
     :func:`uvms.sim.prescribed.prescribed_derivative`): the body-to-world rotation of the normalised quaternion
     into ``plant.scratch.R``, the actuators' state rates into ``xdot`` and their body wrench plus the held one
-    into ``vecs[0]``, and the vehicle's velocity ``nu`` (zero when clamped) into ``vecs[3]``. Returns the
-    normalised quaternion. (The water is evaluated per body inside the ABA's outward pass.)"""
+    plus the model's constant disturbance wrench (``Model.disturbance_wrench``) into ``vecs[0]``, and the
+    vehicle's velocity ``nu`` (zero when clamped) into ``vecs[3]``. Returns the normalised quaternion. (The water
+    is evaluated per body inside the ABA's outward pass.)
+
+    This is the one place the disturbance enters: every simulation (``simulate``, ``rollout``, the
+    ``Simulator``, the batch stepper, replays, the prescribed-joint loop and so ``identify``) takes its state
+    derivative through here (``docs/conventions.md``, "Where a model's disturbance wrench enters")."""
     scratch = plant.scratch
     R = scratch.R
     vecs = scratch.vecs
@@ -88,8 +93,10 @@ def stage_inputs(plant, held, t, x, xdot):
     a0 = JOINTS + 2 * n
     f_body = vecs[0]
     actuator_rates(plant.actuators, x[a0:], held.command, f_body, xdot[a0:], scratch.thrust)
+    disturbance = plant.body.disturbance
     for k in range(6):
         f_body[k] += held.body_wrench[k]
+        f_body[k] += disturbance[k]
     nu = vecs[3]
     fixed_base = plant.fixed_base
     for k in range(6):
