@@ -174,6 +174,23 @@ def test_ideal_sensors_give_the_true_state_run_to_the_dead_reckoning_error(model
     assert gaps[-1] < 1e-6, gaps
 
 
+@pytest.mark.parametrize("name", ["smc-vehicle", "smc-ne"])
+def test_every_sliding_mode_controller_fed_ideal_sensors_follows_its_true_state_run(model, name):
+    """The other two controllers that take ``feedback`` (``smc-ab`` and ``pid`` above): ideal sensors at 500 Hz,
+    the controller at 100 Hz. The measured run differs from the true-state run by the dead reckoning's error
+    only, which the PID case bounds at 1e-6 m: a controller that ignored the estimate, or read it wrongly, would
+    drift by millimetres or more (the noisy case above moves by over 1e-4 m)."""
+    truth = _closed_loop(model, "true_state", None, name=name, duration=1.0)
+    sensors = [Imu(rate=500.0), PressureSensor(rate=500.0), Dvl(rate=500.0),
+               Encoders(rate=500.0, joints=("a", "b", "c"), indices=(0, 1, 2), resolutions=(0.0,) * 3)]
+    measured = _closed_loop(model, "measured", sensors, name=name, duration=1.0)
+    assert measured.complete and truth.complete
+    gap = np.max(np.abs(measured.position - truth.position))
+    assert 0.0 < gap < 1e-6, gap
+    noisy = _closed_loop(model, "measured", _sensors(noisy=True, mount=Mount()), name=name, duration=1.0)
+    assert np.max(np.abs(noisy.position - truth.position)) > 1e-5
+
+
 def test_noisy_sensors_change_the_run_and_a_seed_reproduces_it(model):
     truth = _closed_loop(model, "true_state", _sensors(noisy=True, mount=Mount()), name="smc-ab", duration=2.0)
     one = _closed_loop(model, "measured", _sensors(noisy=True, mount=Mount()), name="smc-ab", duration=2.0)
