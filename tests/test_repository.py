@@ -92,7 +92,7 @@ def test_kernels_are_called_and_workspaces_built_only_by_the_plant_owner_and_the
 FLOORS = (
     ("math", ("uvms.spatial", "uvms.rotations")),
     ("ground", ("uvms.jit", "uvms.state", "uvms.errors", "uvms.checks", "uvms._cache", "uvms.output", "uvms.safe_json",
-                "uvms.safe_yaml", "uvms.schema_base", "uvms.bundled", "uvms._compile_watch", "uvms.frames", "uvms.input_paths", "uvms")),
+                "uvms.safe_yaml", "uvms.schema_base", "uvms.bundled", "uvms._compile_watch", "uvms.frames", "uvms.input_paths", "uvms.lookup", "uvms")),
     ("physics", ("uvms.hydro", "uvms.thrusters", "uvms.kinematics", "uvms.sensors")),
     ("model", ("uvms.model",)),
     ("dynamics", ("uvms.dynamics",)),

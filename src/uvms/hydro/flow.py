@@ -56,6 +56,7 @@ import numpy as np
 
 from uvms.hydro.elementary import SIN_COS_LIMIT, exp_pair_reduced, sin_cos_reduced
 from uvms.jit import block, fused_kernel, kernel, sum_kernel
+from uvms.lookup import last_at_or_before
 
 HOLD, ZERO, ERROR = 0, 1, 2
 """A gridded field's outside policies (:attr:`FlowData.field_outside`)."""
@@ -136,14 +137,8 @@ def interpolate(table_t, table_v, t, out):
         for k in range(3):
             out[k] = table_v[K - 1, k]
         return
-    lo = 0
-    hi = K - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if table_t[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
+    lo = last_at_or_before(table_t, t, K - 1)
+    hi = lo + 1
     s = (t - table_t[lo]) / (table_t[hi] - table_t[lo])
     for k in range(3):
         out[k] = (1.0 - s) * table_v[lo, k] + s * table_v[hi, k]
@@ -168,14 +163,8 @@ def bracket(axis, value):
         return 0, 0.0, value == axis[0]
     if value >= axis[n - 1]:
         return n - 2, 1.0, value == axis[n - 1]
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if axis[mid] <= value:
-            lo = mid
-        else:
-            hi = mid
+    lo = last_at_or_before(axis, value, n - 1)
+    hi = lo + 1
     return lo, (value - axis[lo]) / (axis[hi] - axis[lo]), True
 
 
@@ -196,14 +185,7 @@ def profile_add(flow, point, v_out, grad):
         for k in range(3):
             v_out[k] += V[end, k]
         return
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if d[mid] <= depth:
-            lo = mid
-        else:
-            hi = mid
+    lo = last_at_or_before(d, depth, n - 1)
     slope = flow.profile_slope
     delta = depth - d[lo]
     for k in range(3):

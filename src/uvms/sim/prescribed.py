@@ -31,6 +31,7 @@ from numba import njit
 from uvms.dynamics.hybrid import aba_prescribed, aba_prescribed_inlined
 from uvms.dynamics.plant import plant_data
 from uvms.jit import block, kernel
+from uvms.lookup import last_at_or_before
 from uvms.sim.integrate import check_state, stage_inputs, vehicle_rates
 from uvms.state import JOINTS, NU, POSITION, QUATERNION
 
@@ -64,19 +65,6 @@ def motion_data(breaks: np.ndarray, coefficients: np.ndarray, rows: int, table=N
                   np.zeros(1, dtype=np.int64), np.ascontiguousarray(times, dtype=float),
                   np.ascontiguousarray(np.reshape(commands, (len(times), -1)) if len(times) else np.zeros((0, 0)),
                                        dtype=float))
-
-
-@block
-def last_at_or_before(times, t, hi):
-    """The last ``k < hi`` with ``times[k] <= t`` (0 when none), by bisection on increasing ``times``."""
-    lo = 0
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if times[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
-    return lo
 
 
 @block
