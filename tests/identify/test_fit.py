@@ -5,12 +5,12 @@ import numpy as np
 import pytest
 
 import uvms
+from tests.identify.synthetic import noisy_experiments
 from uvms.errors import UvmsInputError
 from uvms.identify import Experiment, identify
-from uvms.identify.experiment import result_signals, signal_values
+from uvms.identify.experiment import signal_values
 from uvms.identify.write import write_fitted_model
 from uvms.model.parameters import with_parameters
-from uvms.rotations import quaternion_from_euler
 
 NOISE_DEG = 0.1
 NOISE_M = 0.001
@@ -19,15 +19,7 @@ SCALE = {"roll": np.radians(NOISE_DEG), "pitch": np.radians(NOISE_DEG), "depth":
 
 def _experiments(truth, starts, seed, duration=6.0):
     """Logs that ``truth`` made from tilted starts, with white noise of known size added."""
-    rng = np.random.default_rng(seed)
-    out = []
-    for k, euler in enumerate(starts):
-        state = uvms.State.zero(truth).replace(quaternion=quaternion_from_euler(np.array(euler)))
-        run = uvms.simulate(truth, state, duration=duration, step=0.005, record_period=0.05)
-        clean = result_signals(run, run.time, ("roll", "pitch", "depth"))
-        noisy = {s: v + rng.normal(0.0, SCALE[s], v.shape) for s, v in clean.items()}
-        out.append(Experiment(f"trial{seed}-{k}", state, duration, run.time, noisy, step=0.005))
-    return out
+    return noisy_experiments(truth, starts, seed, duration, SCALE)
 
 
 @pytest.fixture(scope="module")

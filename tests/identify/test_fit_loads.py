@@ -8,14 +8,13 @@ import numpy as np
 import pytest
 
 import uvms
+from tests.identify.synthetic import noisy_experiments
 from tests.replays.synthetic import write_log
 from uvms.cli import main
-from uvms.identify import Experiment, identify
-from uvms.identify.experiment import result_signals
+from uvms.identify import identify
 from uvms.identify.fit import Bounds, parse_parameter
 from uvms.identify.write import write_fitted_model
 from uvms.model.parameters import with_parameters
-from uvms.rotations import quaternion_from_euler
 
 PAPER = (files("uvms") / "model" / "models" / "paper.yaml").read_text()
 FOAM = "\npoint_loads:\n  - {name: foam, body: vehicle, position: [0.12, 0.03, -0.1], buoyancy: 0.5}\n"
@@ -26,15 +25,7 @@ TRUTH = {"point_load:foam.fluid_mass": 0.65, "disturbance.surge": 3.0, "disturba
 
 
 def _experiments(truth, starts, seed, duration=5.0):
-    rng = np.random.default_rng(seed)
-    out = []
-    for k, euler in enumerate(starts):
-        state = uvms.State.zero(truth).replace(quaternion=quaternion_from_euler(np.array(euler)))
-        run = uvms.simulate(truth, state, duration=duration, step=0.005, record_period=0.05)
-        clean = result_signals(run, run.time, SIGNALS)
-        noisy = {s: v + rng.normal(0.0, SCALE[s], v.shape) for s, v in clean.items()}
-        out.append(Experiment(f"trial{seed}-{k}", state, duration, run.time, noisy, step=0.005))
-    return out
+    return noisy_experiments(truth, starts, seed, duration, SCALE)
 
 
 @pytest.fixture(scope="module")

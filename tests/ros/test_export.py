@@ -1,8 +1,7 @@
-"""``uvms export`` / ``Result.to_mcap``: a run written as ROS 2 messages with ``mcap`` and read back with ``rosbags``,
-an independent reader that decodes with the definitions stored in the file: the topics and types documented,
-and every value the run's, converted to z up and forward-left-up by the half turn written out here (1e-12)."""
-
-from pathlib import Path
+"""``uvms export`` / ``Result.to_mcap``: a run written as ROS 2 messages with ``mcap`` and read back with
+``rosbags``, an independent reader that decodes with the definitions stored in the file: the topics and types
+documented, and every value the run's, converted to z up and forward-left-up by the half turn written out by hand
+(``bags.py``; 1e-12)."""
 
 import numpy as np
 import pytest
@@ -10,20 +9,7 @@ import pytest
 import uvms
 from uvms.cli import main
 
-H = np.diag([1.0, -1.0, -1.0])                 # ned -> enu: the half turn about x, world and body alike
-
-
-def _messages(path: Path) -> dict[str, list]:
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
-
-    out: dict[str, list] = {}
-    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
-        types = {c.topic: c.msgtype for c in reader.connections}
-        for connection, log_time, raw in reader.messages():
-            out.setdefault(connection.topic, []).append((log_time, reader.deserialize(raw, connection.msgtype)))
-    out["types"] = types
-    return out
+from .bags import H, read_bag
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +25,7 @@ def exported(tmp_path_factory):
     assert main(["run", str(folder / "hold.yaml"), "-o", str(folder / "run")]) == 0
     assert main(["export", str(folder / "run"), "-o", str(folder / "run.mcap")]) == 0
     result = uvms.Result.load(folder / "run")
-    return result, _messages(folder / "run.mcap"), folder
+    return result, read_bag(folder / "run.mcap"), folder
 
 
 def test_the_topics_and_types_are_as_documented(exported):
@@ -135,10 +121,10 @@ def test_named_frames_are_static_transforms(exported):
     np.testing.assert_allclose([t.x, t.y, t.z], f.position, atol=1e-12)
 
 
-def test_result_to_mcap_writes_the_same_messages(exported, tmp_path):
+def test_result_to_mcap_writes_the_sameread_bag(exported, tmp_path):
     result, bag, _ = exported
     path = result.to_mcap(tmp_path / "again.mcap", uvms.load_model("bluerov2_heavy_alpha5"))
-    again = _messages(path)
+    again = read_bag(path)
     assert again["types"] == bag["types"]
     a = [m.pose.pose.position.x for _, m in again["/uvms/odometry"]]
     np.testing.assert_array_equal(a, [m.pose.pose.position.x for _, m in bag["/uvms/odometry"]])

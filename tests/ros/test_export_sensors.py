@@ -2,10 +2,10 @@
 a pressure sensor, a DVL and the arm's encoders, written by ``uvms export`` and ``Result.to_mcap`` and read back
 with ``rosbags`` (an independent decoder).
 
-Two kinds of check: the bag's values are the run's sensor tables turned by the half turn written out here
-(1e-12), and, independently of that formula, the bag is consistent with itself the way a ROS user reads it:
-the noise-free gyro and DVL, turned by the sensor's ``/tf_static`` mount, are the odometry's body rates and
-velocities (and the water track differs from the bottom track by the current, seen in the sensor's axes), and
+Two kinds of check: the bag's values are the run's sensor tables turned by the half turn written out by hand
+(``bags.py``; 1e-12), and, independently of that formula, the bag is consistent with itself the way a ROS user
+reads it: the noise-free gyro and DVL, turned by the sensor's ``/tf_static`` mount, are the odometry's body rates
+and velocities (and the water track differs from the bottom track by the current, seen in the sensor's axes), and
 the IMU at (near) rest reads +|g| up in the world (REP 145)."""
 
 from pathlib import Path
@@ -19,7 +19,7 @@ import uvms
 from uvms.cli import main
 from uvms.errors import UvmsInputError
 
-H = np.diag([1.0, -1.0, -1.0])                 # ned -> enu: the half turn about x, world and body alike
+from .bags import H, read_bag
 CURRENT = np.array([0.1, 0.0, 0.0])            # the hold6 scenario's world current (ned) [m/s]
 MOUNTS = {"imu": ([0.1, -0.05, 0.08], [0.3, -0.2, 0.5]), "depth": ([-0.2, 0.0, 0.1], [0.0, 0.0, 0.0]),
           "dvl": ([0.05, 0.1, 0.15], [0.1, 0.05, 0.785])}
@@ -31,19 +31,6 @@ SENSORS = {
 }
 for _name, (_offset, _rpy) in MOUNTS.items():
     SENSORS[_name]["mount"] = {"offset": _offset, "rpy": _rpy}
-
-
-def _messages(path: Path) -> dict[str, list]:
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
-
-    out: dict[str, list] = {}
-    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
-        types = {c.topic: c.msgtype for c in reader.connections}
-        for connection, log_time, raw in reader.messages():
-            out.setdefault(connection.topic, []).append((log_time, reader.deserialize(raw, connection.msgtype)))
-    out["types"] = types
-    return out
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +50,7 @@ def sensed(tmp_path_factory):
     result = run_scenario(load_scenario(folder / "sensed.yaml"))
     model = uvms.load_model("bluerov2_heavy_alpha5")
     result.to_mcap(folder / "memory.mcap", model)
-    return saved, _messages(folder / "run.mcap"), result, _messages(folder / "memory.mcap")
+    return saved, read_bag(folder / "run.mcap"), result, read_bag(folder / "memory.mcap")
 
 
 def _stamps(messages) -> np.ndarray:
@@ -201,7 +188,7 @@ def test_the_imu_at_rest_reads_plus_g_up_in_the_world(sensed):
     np.testing.assert_allclose(world.mean(axis=0), [0.0, 0.0, g], atol=0.05)
 
 
-def test_the_saved_and_the_in_memory_runs_write_the_same_sensor_messages(sensed):
+def test_the_saved_and_the_in_memory_runs_write_the_same_sensorread_bag(sensed):
     _, bag, _, again = sensed
     assert again["types"] == bag["types"]
     for topic in (t for t in bag["types"] if t.startswith("/uvms/sensors/")):
@@ -217,7 +204,7 @@ def test_messages_are_in_time_order(sensed, tmp_path):
 
     path = sensed[2].to_mcap(tmp_path / "r.mcap", uvms.load_model("bluerov2_heavy_alpha5"))
     with open(path, "rb") as fh:
-        times = [m.log_time for _, _, m in make_reader(fh).iter_messages(log_time_order=False)]
+        times = [m.log_time for _, _, m in make_reader(fh).iterread_bag(log_time_order=False)]
     assert times == sorted(times) and len(times) > 0
 
 
@@ -239,7 +226,7 @@ def test_a_run_saved_without_mounts_writes_the_samples_and_no_sensor_frames(sens
     _, _, result, _ = sensed
     about = {k: {f: v for f, v in d.items() if f != "mount"} for k, d in result.metadata["sensors"].items()}
     older = replace(result, metadata={**result.metadata, "sensors": about})
-    bag = _messages(older.to_mcap(tmp_path / "old.mcap", uvms.load_model("bluerov2_heavy_alpha5")))
+    bag = read_bag(older.to_mcap(tmp_path / "old.mcap", uvms.load_model("bluerov2_heavy_alpha5")))
     static = {t.child_frame_id for t in bag["/tf_static"][0][1].transforms}
     assert not static & set(MOUNTS) and len(bag["/uvms/sensors/imu"]) == 101
 
@@ -255,7 +242,7 @@ def test_a_z_up_models_sensors_are_written_as_they_are(tmp_path):
                                   nu=[0.1, -0.2, 0.15, 0.3, 0.1, -0.1])
     result = uvms.simulate(model, start, duration=0.2, sensors=sensors, record_period=0.01,
                            joint_torques=np.linspace(1.0, -1.0, model.n_joints))
-    bag = _messages(result.to_mcap(tmp_path / "enu.mcap", model))
+    bag = read_bag(result.to_mcap(tmp_path / "enu.mcap", model))
     imu = result.sensors["imu"]
     np.testing.assert_allclose(_xyz(m.linear_acceleration for _, m in bag["/uvms/sensors/imu"]),
                                np.column_stack([imu[f"accel_{a}"] for a in "xyz"]), rtol=0, atol=1e-12)
