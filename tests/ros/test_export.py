@@ -121,7 +121,7 @@ def test_named_frames_are_static_transforms(exported):
     np.testing.assert_allclose([t.x, t.y, t.z], f.position, atol=1e-12)
 
 
-def test_result_to_mcap_writes_the_sameread_bag(exported, tmp_path):
+def test_result_to_mcap_writes_the_same_messages(exported, tmp_path):
     result, bag, _ = exported
     path = result.to_mcap(tmp_path / "again.mcap", uvms.load_model("bluerov2_heavy_alpha5"))
     again = read_bag(path)

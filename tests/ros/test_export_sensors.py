@@ -188,7 +188,7 @@ def test_the_imu_at_rest_reads_plus_g_up_in_the_world(sensed):
     np.testing.assert_allclose(world.mean(axis=0), [0.0, 0.0, g], atol=0.05)
 
 
-def test_the_saved_and_the_in_memory_runs_write_the_same_sensorread_bag(sensed):
+def test_the_saved_and_the_in_memory_runs_write_the_same_sensor_messages(sensed):
     _, bag, _, again = sensed
     assert again["types"] == bag["types"]
     for topic in (t for t in bag["types"] if t.startswith("/uvms/sensors/")):
@@ -204,7 +204,7 @@ def test_messages_are_in_time_order(sensed, tmp_path):
 
     path = sensed[2].to_mcap(tmp_path / "r.mcap", uvms.load_model("bluerov2_heavy_alpha5"))
     with open(path, "rb") as fh:
-        times = [m.log_time for _, _, m in make_reader(fh).iterread_bag(log_time_order=False)]
+        times = [m.log_time for _, _, m in make_reader(fh).iter_messages(log_time_order=False)]
     assert times == sorted(times) and len(times) > 0
 
 
