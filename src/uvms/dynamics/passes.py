@@ -128,7 +128,7 @@ def body_fluid(km, ws, flow, t, i):
         point[r] = p[r] + R[r, 0] * b[0] + R[r, 1] * b[1] + R[r, 2] * b[2]
         u_f[r] = ws.table_v[r]
         a_f[r] = ws.table_a[r]
-    local_parts_add(flow, t, point, u_f, a_f, ws.fluid_grad)
+    local_parts_add(flow, t, point, i, u_f, a_f, ws.fluid_grad)
     for k in range(3):
         ws.vc[i, k] = R[0, k] * u_f[0] + R[1, k] * u_f[1] + R[2, k] * u_f[2]
         ws.af[i, k] = R[0, k] * a_f[0] + R[1, k] * a_f[1] + R[2, k] * a_f[2]

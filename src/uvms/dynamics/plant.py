@@ -32,7 +32,7 @@ from uvms.dynamics.aba import aba, aba_inlined
 from uvms.dynamics.crba import crba
 from uvms.dynamics.kernel_model import KernelModel, Workspace, kernel_model_from, make_workspace
 from uvms.dynamics.rnea import rnea
-from uvms.hydro.flow import FlowData, uniform_flow_data
+from uvms.hydro.flow import FlowData, uniform_flow_data, with_body_anchors
 from uvms.jit import kernel
 from uvms.kinematics import normalised_rotation
 from uvms.state import JOINTS, NU, POSITION, QUATERNION
@@ -165,6 +165,7 @@ def build_plant(model, *, thrusters: tuple = (), fluid: FlowData | None = None, 
     actuators = actuator_kernel(tuple(thrusters))
     if fluid is None:
         fluid = fluid_table([0.0], [model.current], [model.fluid_acceleration])
+    fluid = with_body_anchors(fluid, model.n_bodies)
     size = JOINTS + 2 * model.n_joints + n_actuator_states(actuators)
     scratch = StepScratch(R=np.zeros((3, 3)), vecs=np.zeros((5, 6)), thrust=np.zeros(max(len(thrusters), 1)),
                           stages=np.zeros((6, size)))

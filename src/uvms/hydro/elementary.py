@@ -26,6 +26,16 @@ parts of the Taylor series::
 (next terms below 0.05 ulp), the powers of two built from their exponent bits. Valid for
 ``|x| <= EXP_LIMIT`` (both results normal); :func:`exp_pair` falls back to libm beyond.
 
+**Small arguments** (:func:`sin_cos_small`, :func:`sinh_cosh_small`), ``|d| <= SMALL_LIMIT = 1/32``: no
+reduction, the Taylor series to ``d^7`` and ``d^8``::
+
+    sin d = d - d^3/3! + d^5/5! - d^7/7!      (next term below d^9/9! = 7.8e-20)
+    cos d = 1 - d^2/2! + d^4/4! - d^6/6! + d^8/8!   (next term below 2.5e-22)
+
+and ``sinh``, ``cosh`` with every sign ``+``: absolute errors far below an ulp of 1. The wave kernels turn a
+body's terms at its last full evaluation into its terms at a nearby point and time with them (the angle-addition
+formulas, :func:`uvms.hydro.flow.wave_sums_near`).
+
 Errors, measured against libm (``tests/hydro/test_elementary.py``): at most a few ulps (the tests pin the
 bound). The kernels are compiled with floating-point contraction only (:data:`uvms.jit.fused_block`): an FMA
 keeps every step above exact or better rounded; reassociation would undo the reductions, so it is never allowed
@@ -47,6 +57,9 @@ SIN_COS_LIMIT = 1.0e6
 """``|x|`` [rad] up to which :func:`sin_cos_reduced` holds (``|n| < 2^23``: the reduction's products exact)."""
 EXP_LIMIT = 708.0
 """``|x|`` up to which :func:`exp_pair_reduced` holds (``2^n`` and ``2^-n`` normal numbers)."""
+SMALL_LIMIT = 1.0 / 32.0
+"""``|d|`` up to which :func:`sin_cos_small` and :func:`sinh_cosh_small` hold (their truncation errors below
+1e-19)."""
 
 _TWO_OVER_PI = 2.0 / math.pi
 _P1 = float.fromhex("0x1.921fb54800000p+0")      # pi/2 to 30 bits
@@ -119,6 +132,22 @@ def exp_pair_reduced(x):
 
 
 @fused_block
+def sin_cos_small(d):
+    """``(sin d, cos d)`` for ``|d| <= SMALL_LIMIT`` (module docstring: Taylor to ``d^7``, ``d^8``)."""
+    d2 = d * d
+    return (d + d * d2 * (_S3 + d2 * (_S5 + d2 * _S7)),
+            1.0 + d2 * (_C2 + d2 * (_C4 + d2 * (_C6 + d2 * _C8))))
+
+
+@fused_block
+def sinh_cosh_small(d):
+    """``(sinh d, cosh d)`` for ``|d| <= SMALL_LIMIT`` (module docstring: Taylor to ``d^7``, ``d^8``)."""
+    d2 = d * d
+    return (d + d * d2 * (_E3 + d2 * (_E5 + d2 * _E7)),
+            1.0 + d2 * (_E2 + d2 * (_E4 + d2 * (_E6 + d2 * _E8))))
+
+
+@fused_block
 def sin_cos(x):
     """``(sin x, cos x)``: :func:`sin_cos_reduced` within ``SIN_COS_LIMIT``, libm beyond (and for NaN, inf)."""
     if abs(x) <= SIN_COS_LIMIT:
@@ -146,6 +175,20 @@ def exp_pair_array(x, exp_out, exp_neg_out):
     """:func:`exp_pair` of every element of ``x`` (for tests and microbenchmarks)."""
     for i in range(x.shape[0]):
         exp_out[i], exp_neg_out[i] = exp_pair(x[i])
+
+
+@fused_kernel
+def sin_cos_small_array(x, sin_out, cos_out):
+    """:func:`sin_cos_small` of every element of ``x`` (for tests)."""
+    for i in range(x.shape[0]):
+        sin_out[i], cos_out[i] = sin_cos_small(x[i])
+
+
+@fused_kernel
+def sinh_cosh_small_array(x, sinh_out, cosh_out):
+    """:func:`sinh_cosh_small` of every element of ``x`` (for tests)."""
+    for i in range(x.shape[0]):
+        sinh_out[i], cosh_out[i] = sinh_cosh_small(x[i])
 
 
 @fused_kernel

@@ -45,6 +45,13 @@ particle (``docs/flow.md``). A uniform table has no gradient: its ``a_f`` is its
   :func:`wave_terms_libm`), ``docs/flow.md``, "Cost". Above the mean surface (``zeta > 0``, inside a crest) the
   kinematics are held at their ``zeta = 0`` values (constant extrapolation; linear theory says nothing there);
   below the seabed (``zeta < -h``) at the bed's.
+
+  **Anchors**: a plant's bodies (:func:`with_body_anchors`) keep the terms (``sin theta``, ``cos theta``, ``ch``,
+  ``sh`` of every component) of their last full evaluation. While a body's point and time stay within
+  :data:`NEAR` (1/32 rad) of that anchor in every phase and in ``k dzeta``, its sums come from the anchor's
+  terms turned by the angle-addition formulas (:func:`wave_sums_near`: short series, no range reduction, sums
+  in the same loop); otherwise a full evaluation there becomes the new anchor. Both are exact formulas and agree
+  to a few ulps (``tests/hydro/test_wave_kernels.py``); a point that is no body's is always evaluated in full.
 """
 
 from __future__ import annotations
@@ -54,7 +61,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from uvms.hydro.elementary import SIN_COS_LIMIT, exp_pair_reduced, sin_cos_reduced
+from uvms.hydro.elementary import (SIN_COS_LIMIT, SMALL_LIMIT, exp_pair_reduced, sin_cos_reduced, sin_cos_small,
+                                   sinh_cosh_small)
 from uvms.jit import block, fused_kernel, kernel, sum_kernel
 from uvms.lookup import last_at_or_before
 
@@ -76,6 +84,16 @@ CH_C, CH_S, SH_S, SH_C = range(4)
 """Rows of :attr:`FlowData.wave_work`: ``ch cos(theta)``, ``ch sin(theta)``, ``sh sin(theta)``, ``sh cos(theta)``
 with ``ch = cosh(k (zeta + h)) / sinh(k h)``, ``sh = sinh(k (zeta + h)) / sinh(k h)``."""
 WORK_ROWS = 4
+SIN, COS, CH, SH = range(4)
+"""Rows of a body's anchor terms (:attr:`FlowData.wave_anchor` ``[i]``) and of :attr:`FlowData.wave_point`:
+each component's ``sin(theta)``, ``cos(theta)``, ``ch`` and ``sh`` at one point and time."""
+TERM_ROWS = 4
+X, Y, ZETA, T = range(4)
+"""Columns of :attr:`FlowData.wave_anchor_at`: the anchor's world ``x``, ``y``, height ``zeta`` (held within
+``[-h, 0]``) and time ``t``."""
+NEAR = SMALL_LIMIT
+"""How far (in phase and in ``k`` times height) a body's point may lie from its anchor for its terms to be the
+anchor's turned by the angle-addition formulas (:func:`wave_sums_near`), in rad."""
 UX, UY, AX, AY, UZ, AZ, PCC, PCS, PSS, PSUM, QC, QS = range(12)
 """The wave sums (:attr:`FlowData.wave_sums`; ``P = a w k ch sin(theta)``, ``Q = a w k sh cos(theta)``)::
 
@@ -87,7 +105,10 @@ UX, UY, AX, AY, UZ, AZ, PCC, PCS, PSS, PSUM, QC, QS = range(12)
 each ``sum_i weight_i work_i``: the weight a row of :attr:`FlowData.wave_weights`, the work row ``CH_S`` for
 the ``sin`` sums of ``ch``, and so on (:func:`wave_sums`)."""
 N_SUMS = 12
-REACH_SIZE = 4
+REACH_KX, REACH_KY, REACH_PHASE, REACH_OMEGA, REACH_K = range(5)
+"""Entries of :attr:`FlowData.wave_reach`: max ``|k cos b|``, max ``|k sin b|``, max ``|phi|``, max ``w``, max
+``k`` over the components (bounds on the phases and their changes)."""
+REACH_SIZE = 5
 
 
 class FlowData(NamedTuple):
@@ -110,16 +131,20 @@ class FlowData(NamedTuple):
     wave_table: np.ndarray      # (WAVE_ROWS, M) each component's constants (rows WAVENUMBER ... NORM below; M = 0: no
                                 #   waves; M a multiple of WAVE_LANES, the padding components of zero amplitude)
     wave_weights: np.ndarray    # (N_SUMS, M) the weights of the wave sums (rows UX ... QS below)
-    wave_reach: np.ndarray      # (REACH_SIZE,) max |k cos b|, max |k sin b|, max |phi|, max w: bounds theta
+    wave_reach: np.ndarray      # (REACH_SIZE,) max |k cos b|, max |k sin b|, max |phi|, max w, max k: bounds
     wave_work: np.ndarray       # (WORK_ROWS, M) scratch: each component's depth factor times cos, sin theta
+    wave_point: np.ndarray      # (TERM_ROWS, M) scratch: the terms at a point that is no body's
+    wave_anchor: np.ndarray     # (B, TERM_ROWS, M) each body's terms at its anchor (B = 0: no anchors)
+    wave_anchor_at: np.ndarray  # (B, 4) each anchor's x, y, zeta, t (NaN: none yet)
     wave_sums: np.ndarray       # (N_SUMS,) scratch: the wave sums at one point
     water_depth: float          # h [m] (inf: deep)
     surface: float              # world z of the mean free surface [m]
     up: float                   # +1: world z up (enu), -1: down (ned)
     status: np.ndarray          # (1,) int64: 0, or OUTSIDE once a point lay outside an "error" field
 
-    # status, wave_work and wave_sums are written during an evaluation: one FlowData per thread
-    # (Flow.compiled makes a fresh one; every run compiles its own).
+    # status, wave_work, wave_point, wave_sums and the anchors are written during an evaluation: one FlowData
+    # per thread (Flow.compiled makes a fresh one; every run compiles its own, and every plant gets fresh
+    # scratch and anchors for its bodies, with_body_anchors).
 
 
 # ------------------------------------------------------------------------------------------- kernels
@@ -272,9 +297,10 @@ def field_add(flow, t, point, v_out, a_out, grad):
 
 
 @fused_kernel
-def wave_terms_fast(table, work, x, y, zeta, t):
+def wave_terms_fast(table, work, terms, x, y, zeta, t):
     """Each component's depth factors times ``cos theta`` and ``sin theta`` into ``work`` (rows ``CH_C`` ...
-    ``SH_C``) at ``(x, y)`` and height ``zeta`` (already held within ``[-h, 0]``), time ``t``; with the
+    ``SH_C``), and ``sin theta``, ``cos theta`` and the factors themselves into ``terms`` (rows ``SIN`` ...
+    ``SH``), at ``(x, y)`` and height ``zeta`` (already held within ``[-h, 0]``), time ``t``; with the
     vectorisable :mod:`uvms.hydro.elementary` functions, for ``|theta| <= SIN_COS_LIMIT`` (the caller checks).
 
     ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-2 k h} e^{-k zeta}) / (1 - e^{-2 k h})`` (and ``sinh``
@@ -288,6 +314,10 @@ def wave_terms_fast(table, work, x, y, zeta, t):
         sh = (e_up - bed) * table[NORM, i] if live else 0.0
         theta = x * table[K_X, i] + y * table[K_Y, i] + (table[PHASE, i] - table[OMEGA, i] * t)
         s, c = sin_cos_reduced(theta)
+        terms[SIN, i] = s
+        terms[COS, i] = c
+        terms[CH, i] = ch
+        terms[SH, i] = sh
         work[CH_C, i] = ch * c
         work[CH_S, i] = ch * s
         work[SH_S, i] = sh * s
@@ -295,27 +325,90 @@ def wave_terms_fast(table, work, x, y, zeta, t):
 
 
 @kernel
-def wave_terms_libm(table, work, x, y, zeta, t):
+def wave_terms_libm(table, work, terms, x, y, zeta, t):
     """:func:`wave_terms_fast` with libm's ``cos``, ``sin``, ``exp`` (any argument: the fallback and the
     reference), ``theta = k (x cos b + y sin b) - w t + phi``."""
     for i in range(table.shape[1]):
         k = table[WAVENUMBER, i]
         kz = k * zeta
-        if kz < _NEGLIGIBLE:
-            for r in range(WORK_ROWS):
-                work[r, i] = 0.0
-            continue
         theta = k * (x * table[COS_B, i] + y * table[SIN_B, i]) - table[OMEGA, i] * t + table[PHASE, i]
         c = math.cos(theta)
         s = math.sin(theta)
-        e = math.exp(kz)
-        bed = table[BED, i] / e                  # e^{-k (zeta + 2 h)}
-        ch = (e + bed) * table[NORM, i]          # cosh(k (zeta + h)) / sinh(k h)
-        sh = (e - bed) * table[NORM, i]          # sinh(k (zeta + h)) / sinh(k h)
+        ch = sh = 0.0
+        if kz >= _NEGLIGIBLE:
+            e = math.exp(kz)
+            bed = table[BED, i] / e              # e^{-k (zeta + 2 h)}
+            ch = (e + bed) * table[NORM, i]      # cosh(k (zeta + h)) / sinh(k h)
+            sh = (e - bed) * table[NORM, i]      # sinh(k (zeta + h)) / sinh(k h)
+        terms[SIN, i] = s
+        terms[COS, i] = c
+        terms[CH, i] = ch
+        terms[SH, i] = sh
         work[CH_C, i] = ch * c
         work[CH_S, i] = ch * s
         work[SH_S, i] = sh * s
         work[SH_C, i] = sh * c
+
+
+@sum_kernel
+def wave_sums_near(table, weights, anchor, out, dx, dy, dzeta, dt):
+    """The wave sums ``out`` (:func:`wave_sums`) at a point ``(dx, dy)`` [m], height ``dzeta`` [m] and time ``dt``
+    [s] from the anchor whose terms are ``anchor`` (rows ``SIN`` ... ``SH``), for ``|d theta| <= NEAR`` and
+    ``k |dzeta| <= NEAR`` (the caller checks): each component's terms turned by the angle-addition formulas
+    (exact)::
+
+        d theta = k cos b dx + k sin b dy - w dt
+        sin(theta + d theta) = sin theta cos d theta + cos theta sin d theta
+        cos(theta + d theta) = cos theta cos d theta - sin theta sin d theta
+        ch(zeta + dzeta) = ch(zeta) cosh(k dzeta) + sh(zeta) sinh(k dzeta)
+        sh(zeta + dzeta) = sh(zeta) cosh(k dzeta) + ch(zeta) sinh(k dzeta)
+
+    (``ch = cosh(k (zeta + h)) / sinh(k h)``, ``sh`` with ``sinh``), the small angles' functions from their
+    short series (:func:`uvms.hydro.elementary.sin_cos_small`, :func:`~uvms.hydro.elementary.sinh_cosh_small`):
+    no range reduction, so the loop may be reassociated (:data:`uvms.jit.sum_kernel`; the series' terms fall
+    fast, nothing cancels) and the sums taken in the same loop. Within a few ulps of a full evaluation at the
+    point (``tests/hydro/test_wave_kernels.py``)."""
+    ux = uy = ax = ay = uz = az = p_cc = p_cs = p_ss = p_sum = q_c = q_s = 0.0
+    for i in range(table.shape[1]):
+        d = dx * table[K_X, i] + dy * table[K_Y, i] - dt * table[OMEGA, i]
+        sd, cd = sin_cos_small(d)
+        se, ce = sinh_cosh_small(table[WAVENUMBER, i] * dzeta)
+        s0 = anchor[SIN, i]
+        c0 = anchor[COS, i]
+        ch0 = anchor[CH, i]
+        sh0 = anchor[SH, i]
+        s = s0 * cd + c0 * sd
+        c = c0 * cd - s0 * sd
+        ch = ch0 * ce + sh0 * se
+        sh = sh0 * ce + ch0 * se
+        ch_c = ch * c
+        ch_s = ch * s
+        sh_s = sh * s
+        sh_c = sh * c
+        ux += weights[UX, i] * ch_c
+        uy += weights[UY, i] * ch_c
+        ax += weights[AX, i] * ch_s
+        ay += weights[AY, i] * ch_s
+        uz += weights[UZ, i] * sh_s
+        az += weights[AZ, i] * sh_c
+        p_cc += weights[PCC, i] * ch_s
+        p_cs += weights[PCS, i] * ch_s
+        p_ss += weights[PSS, i] * ch_s
+        p_sum += weights[PSUM, i] * ch_s
+        q_c += weights[QC, i] * sh_c
+        q_s += weights[QS, i] * sh_c
+    out[UX] = ux
+    out[UY] = uy
+    out[AX] = ax
+    out[AY] = ay
+    out[UZ] = uz
+    out[AZ] = az
+    out[PCC] = p_cc
+    out[PCS] = p_cs
+    out[PSS] = p_ss
+    out[PSUM] = p_sum
+    out[QC] = q_c
+    out[QS] = q_s
 
 
 @sum_kernel
@@ -355,16 +448,10 @@ def wave_sums(weights, work, out):
 
 
 @block
-def waves_add(flow, t, point, v_out, a_out, grad):
-    """``v_out += u_waves``, ``a_out += du_waves/dt``, ``grad += grad u_waves``: the linear (Airy) kinematics of
-    every component at ``point`` and ``t`` (module docstring), held at the mean surface above it and at the bed
-    below it (there the vertical derivatives are zero).
-
-    The components' terms come from :func:`wave_terms_fast` when every phase is within the polynomials' range
-    (``|theta| <= |x| max|k cos b| + |y| max|k sin b| + max|phi| + max w |t| <= SIN_COS_LIMIT``), else (and for
-    a non-finite point) from :func:`wave_terms_libm`; then the sums (:func:`wave_sums`)."""
-    up = flow.up
-    zeta = up * (point[2] - flow.surface)
+def wave_height(flow, point):
+    """``(zeta, held)``: the height of the world ``point`` above the mean surface, held within ``[-h, 0]``, and
+    ``d zeta / d(height)`` there (1 inside, 0 where held)."""
+    zeta = flow.up * (point[2] - flow.surface)
     held = 1.0
     if zeta > 0.0:
         zeta = 0.0
@@ -372,16 +459,63 @@ def waves_add(flow, t, point, v_out, a_out, grad):
     if zeta < -flow.water_depth:
         zeta = -flow.water_depth
         held = 0.0
-    x = point[0]
-    y = point[1]
+    return zeta, held
+
+
+@block
+def wave_terms(flow, terms, x, y, zeta, t):
+    """Every component's terms at ``(x, y)``, height ``zeta`` and time ``t`` into ``flow.wave_work`` and
+    ``terms``: :func:`wave_terms_fast` when every phase is within the polynomials' range (``|theta| <= |x|
+    max|k cos b| + |y| max|k sin b| + max|phi| + max w |t| <= SIN_COS_LIMIT``), else (and for a non-finite point)
+    :func:`wave_terms_libm`."""
     reach = flow.wave_reach
-    bound = abs(x) * reach[0] + abs(y) * reach[1] + reach[2] + reach[3] * abs(t)
+    bound = abs(x) * reach[REACH_KX] + abs(y) * reach[REACH_KY] + reach[REACH_PHASE] + reach[REACH_OMEGA] * abs(t)
     if bound <= SIN_COS_LIMIT and zeta == zeta:
-        wave_terms_fast(flow.wave_table, flow.wave_work, x, y, zeta, t)
+        wave_terms_fast(flow.wave_table, flow.wave_work, terms, x, y, zeta, t)
     else:
-        wave_terms_libm(flow.wave_table, flow.wave_work, x, y, zeta, t)
+        wave_terms_libm(flow.wave_table, flow.wave_work, terms, x, y, zeta, t)
+
+
+@block
+def body_wave_sums(flow, body, x, y, zeta, t):
+    """The wave sums (``flow.wave_sums``) for body ``body`` at ``(x, y)``, height ``zeta`` and time ``t``: turned
+    from its anchor (:func:`wave_sums_near`) when the point lies within :data:`NEAR` of it in every component's
+    phase (``|dx| max|k cos b| + |dy| max|k sin b| + |dt| max w``) and in ``k |dzeta|``; else a full evaluation
+    there (:func:`wave_terms`, :func:`wave_sums`), which becomes the body's anchor."""
+    at = flow.wave_anchor_at[body]
+    dx = x - at[X]
+    dy = y - at[Y]
+    dzeta = zeta - at[ZETA]
+    dt = t - at[T]
+    reach = flow.wave_reach
+    phase = abs(dx) * reach[REACH_KX] + abs(dy) * reach[REACH_KY] + abs(dt) * reach[REACH_OMEGA]
+    if phase <= NEAR and abs(dzeta) * reach[REACH_K] <= NEAR:            # (false for a NaN: no anchor yet)
+        wave_sums_near(flow.wave_table, flow.wave_weights, flow.wave_anchor[body], flow.wave_sums, dx, dy, dzeta, dt)
+        return
+    wave_terms(flow, flow.wave_anchor[body], x, y, zeta, t)
+    wave_sums(flow.wave_weights, flow.wave_work, flow.wave_sums)
+    at[X] = x
+    at[Y] = y
+    at[ZETA] = zeta
+    at[T] = t
+
+
+@block
+def waves_add(flow, t, point, body, v_out, a_out, grad):
+    """``v_out += u_waves``, ``a_out += du_waves/dt``, ``grad += grad u_waves``: the linear (Airy) kinematics of
+    every component at ``point`` and ``t`` (module docstring), held at the mean surface above it and at the bed
+    below it (there the vertical derivatives are zero).
+
+    The sums come from :func:`body_wave_sums` when ``point`` is body ``body``'s (``0 <= body <`` the anchors'
+    count), else from the components' terms there (:func:`wave_terms`, :func:`wave_sums`)."""
+    up = flow.up
+    zeta, held = wave_height(flow, point)
     S = flow.wave_sums
-    wave_sums(flow.wave_weights, flow.wave_work, S)
+    if 0 <= body < flow.wave_anchor.shape[0]:
+        body_wave_sums(flow, body, point[0], point[1], zeta, t)
+    else:
+        wave_terms(flow, flow.wave_point, point[0], point[1], zeta, t)
+        wave_sums(flow.wave_weights, flow.wave_work, S)
     v_out[0] += S[UX]
     v_out[1] += S[UY]
     v_out[2] += up * S[UZ]
@@ -401,11 +535,12 @@ def waves_add(flow, t, point, v_out, a_out, grad):
 
 
 @block
-def local_parts_add(flow, t, point, v_out, a_out, grad):
+def local_parts_add(flow, t, point, body, v_out, a_out, grad):
     """The parts that vary in space at the world ``point`` (3,) and time ``t``, added to ``v_out``, ``a_out``
     (world, (3,); holding the uniform part, :func:`uniform_at`): profile, field and waves, then the convective
     acceleration ``a_out += (grad u) u`` (module docstring); ``grad`` (3, 3) is scratch, left holding
-    ``grad[r, c] = du_r/dx_c``."""
+    ``grad[r, c] = du_r/dx_c``. ``body`` is the index of the body whose point it is (its wave anchor,
+    :func:`body_wave_sums`), or -1."""
     for r in range(3):
         for c in range(3):
             grad[r, c] = 0.0
@@ -414,7 +549,7 @@ def local_parts_add(flow, t, point, v_out, a_out, grad):
     if flow.field_x.shape[0] > 0:
         field_add(flow, t, point, v_out, a_out, grad)
     if flow.wave_table.shape[1] > 0:
-        waves_add(flow, t, point, v_out, a_out, grad)
+        waves_add(flow, t, point, body, v_out, a_out, grad)
     for r in range(3):
         a_out[r] += grad[r, 0] * v_out[0] + grad[r, 1] * v_out[1] + grad[r, 2] * v_out[2]
 
@@ -425,7 +560,7 @@ def fluid_at(flow, t, point, v_out, a_out, grad):
     world ``point`` (3,) and time ``t``: the sum of the flow's parts, then ``a_out += (grad u) u``
     (module docstring); ``grad`` (3, 3) is scratch, left holding ``grad[r, c] = du_r/dx_c``."""
     uniform_at(flow, t, v_out, a_out)
-    local_parts_add(flow, t, point, v_out, a_out, grad)
+    local_parts_add(flow, t, point, -1, v_out, a_out, grad)
 
 
 @kernel
@@ -535,7 +670,8 @@ class Flow:
             field_x=fx.copy(), field_y=fy.copy(),
             field_z=fz.copy(), field_t=ft.copy(), field_velocity=fv.copy(), field_outside=int(outside),
             wave_table=table, wave_weights=weights, wave_reach=reach, wave_work=np.zeros((WORK_ROWS, table.shape[1])),
-            wave_sums=np.zeros(N_SUMS), water_depth=float(h),
+            wave_point=np.zeros((TERM_ROWS, table.shape[1])), wave_anchor=np.zeros((0, TERM_ROWS, table.shape[1])),
+            wave_anchor_at=np.zeros((0, 4)), wave_sums=np.zeros(N_SUMS), water_depth=float(h),
             surface=float(self.surface), up=up, status=np.zeros(1, dtype=np.int64))
 
     def at(self, t: float, points, convention: str = "ned") -> tuple[np.ndarray, np.ndarray]:
@@ -594,8 +730,19 @@ def _wave_arrays(a, w, k, b, phase, h) -> tuple[np.ndarray, np.ndarray, np.ndarr
     weights[UZ], weights[AZ] = aw, -aw2
     weights[PCC], weights[PCS], weights[PSS], weights[PSUM] = awk * cb * cb, awk * cb * sb, awk * sb * sb, awk
     weights[QC], weights[QS] = awk * cb, awk * sb
-    reach = np.array([np.abs(table[K_X]).max(), np.abs(table[K_Y]).max(), np.abs(phase).max(), w.max()])
+    reach = np.array([np.abs(table[K_X]).max(), np.abs(table[K_Y]).max(), np.abs(phase).max(), w.max(), k.max()])
     return table, weights, reach
+
+
+def with_body_anchors(flow: FlowData, n_bodies: int) -> FlowData:
+    """``flow`` with fresh scratch and a wave anchor for each of ``n_bodies`` bodies (none yet), for one plant
+    (:func:`uvms.dynamics.plant.build_plant`): the same constant arrays and ``status`` (the caller's
+    :func:`check_status` reads it), its own scratch. Without waves the anchors stay empty."""
+    m = flow.wave_table.shape[1]
+    bodies = n_bodies if m > 0 else 0
+    return flow._replace(wave_work=np.zeros_like(flow.wave_work), wave_point=np.zeros_like(flow.wave_point),
+                         wave_sums=np.zeros_like(flow.wave_sums),
+                         wave_anchor=np.zeros((bodies, TERM_ROWS, m)), wave_anchor_at=np.full((bodies, 4), np.nan))
 
 
 def uniform_flow_data(times, velocity, acceleration) -> FlowData:
