@@ -11,8 +11,10 @@ import math
 import numpy as np
 import pytest
 
-from uvms.hydro.elementary import (EXP_LIMIT, SIN_COS_LIMIT, exp_pair_array, exp_pair_reduced_array, power_of_two,
-                                   sin_cos_array, sin_cos_reduced_array)
+from uvms.hydro.elementary import (EXP_LIMIT, SIN_COS_LIMIT, SMALL_LIMIT, exp_pair_array, exp_pair_reduced_array,
+                                   power_of_two, sin_cos_array, sin_cos_reduced_array, sin_cos_small_array,
+                                   sinh_cosh_scaled, sinh_cosh_small_array, small_hyperbolic_coefficients)
+from uvms.jit import fused_kernel
 
 MAX_ULPS = 2.0
 """The error bound pinned here: Taylor truncation below 0.4 ulp plus the Horner and final roundings (a round
@@ -107,3 +109,40 @@ def test_exp_pair_hands_over_to_libm_at_its_limit():
 @pytest.mark.parametrize("n", [-1022, -1, 0, 1, 52, 1023])
 def test_power_of_two_is_exact(n):
     assert power_of_two(n) == math.ldexp(1.0, n)
+
+
+def _small_arguments() -> np.ndarray:
+    rng = np.random.default_rng(2028)
+    log_uniform = np.exp(rng.uniform(math.log(1e-12), math.log(SMALL_LIMIT), 20_000)) * rng.choice([-1.0, 1.0], 20_000)
+    return np.concatenate([rng.uniform(-SMALL_LIMIT, SMALL_LIMIT, 40_000), log_uniform,
+                           [SMALL_LIMIT, -SMALL_LIMIT, 0.0, -0.0, 1e-300]])
+
+
+def test_small_argument_series_are_within_two_ulps_of_libm():
+    # the series without range reduction the wave anchors turn with (truncation below 0.1 ulp of 1)
+    d = _small_arguments()
+    s, c, sh, ch = (np.empty_like(d) for _ in range(4))
+    sin_cos_small_array(d, s, c)
+    sinh_cosh_small_array(d, sh, ch)
+    for value, function in ((s, math.sin), (c, math.cos), (sh, math.sinh), (ch, math.cosh)):
+        error = ulps(value, _libm(function, d))
+        assert error.max() <= MAX_ULPS, (function.__name__, d[np.argmax(error)])
+
+
+@fused_kernel
+def _scaled(k, dz, sinh_out, cosh_out):
+    for i in range(k.shape[0]):
+        sinh_out[i], cosh_out[i] = sinh_cosh_scaled(k[i], k[i] * k[i], small_hyperbolic_coefficients(dz[i]))
+
+
+def test_hyperbolic_pair_in_powers_of_k_squared_is_the_series_of_k_dz():
+    # the wave kernel's form (coefficients from dz, Horner in k^2) against libm at the rounded product k dz: the
+    # product's own rounding (half an ulp) comes on top of the series'
+    rng = np.random.default_rng(2029)
+    k = np.exp(rng.uniform(math.log(1e-3), math.log(10.0), 50_000))
+    dz = rng.uniform(-1.0, 1.0, k.size) * SMALL_LIMIT / k
+    sh, ch = np.empty_like(k), np.empty_like(k)
+    _scaled(k, dz, sh, ch)
+    x = k * dz
+    assert ulps(sh, np.sinh(x)).max() <= MAX_ULPS + 1.0
+    assert ulps(ch, np.cosh(x)).max() <= MAX_ULPS

@@ -15,8 +15,8 @@ import pytest
 from numba import njit
 
 from uvms.hydro.elementary import SIN_COS_LIMIT
-from uvms.hydro.flow import (CH, CH_C, CH_S, K_X, K_Y, NEAR, OMEGA, SH, SH_C, SH_S, TERM_ROWS, WAVE_LANES, WAVENUMBER, Flow,
-                             N_SUMS, waves_add, wave_sums, wave_sums_near, wave_terms_fast, wave_terms_libm,
+from uvms.hydro.flow import (CH_C, CH_S, K_X, K_Y, NEAR, OMEGA, SH_C, SH_S, TERM_ROWS, WAVE_LANES, WAVENUMBER, Flow,
+                             N_SUMS, bodies_waves, waves_add, wave_sums, wave_sums_near, wave_terms_fast, wave_terms_libm,
                              with_body_anchors)
 
 G = 9.81
@@ -128,14 +128,14 @@ def test_sums_turned_from_an_anchor_agree_with_libm_at_the_point(h):
         share = rng.dirichlet(np.ones(3)) * NEAR * rng.uniform(0.5, 1.0)       # of the phase bound
         dx, dy, dt = share[0] / kx * rng.choice([-1, 1]), share[1] / ky * rng.choice([-1, 1]), share[2] / w_max
         dzeta = rng.uniform(-1.0, 1.0) * NEAR / k_max
-        wave_sums_near(table, weights, anchor, near, dx, dy, dzeta, dt)
+        wave_sums_near(table, weights, anchor[None], np.array([[dx, dy, dzeta, dt]]), near[None], 1)
         wave_terms_libm(table, libm, scratch, x + dx, y + dy, zeta + dzeta, t + dt)
         wave_sums(weights, libm, full)
         largest = max(largest, np.abs(table[K_X] * dx + table[K_Y] * dy - table[OMEGA] * dt).max())
         # each term is a depth factor times a sine or cosine; the phases of the anchor and of libm at the point
         # are rounded differently, a few ulps of |theta|
         theta = table[WAVENUMBER] * (abs(x) + abs(y)) + table[OMEGA] * t + 2 * math.pi
-        factor = np.abs(scratch[CH]) + np.abs(scratch[SH])
+        factor = np.abs(libm[CH_C]) + np.abs(libm[CH_S]) + np.abs(libm[SH_S]) + np.abs(libm[SH_C])   # >= ch, sh
         bound = np.abs(weights) @ (factor * (8 * np.spacing(theta) + 1e-14))
         assert np.all(np.abs(near - full) <= bound)
     assert largest > 0.5 * NEAR                     # the offsets did reach the edge of the box
@@ -143,38 +143,43 @@ def test_sums_turned_from_an_anchor_agree_with_libm_at_the_point(h):
 
 @njit(cache=True)
 def _along(flow, times, points, body, v, a, grad, anchored_at):
-    """``waves_add`` at ``points[j]``, ``times[j]`` for body ``body`` (-1: none), counting the anchors taken."""
+    """``waves_add`` at ``points[j]``, ``times[j]`` for body ``body`` (0, its sums from ``bodies_waves``; or -1
+    or beyond the anchors: evaluated in full), counting the anchors taken (the anchor's time changed)."""
     taken = 0
+    slot = body == 0 and flow.wave_anchor.shape[0] > 0
     for j in range(times.shape[0]):
         v[j] = 0.0
         a[j] = 0.0
+        before = flow.wave_anchor_at[0, 3] if slot else 0.0
+        if slot:
+            bodies_waves(flow, points[j:j + 1], times[j], 1)
         waves_add(flow, times[j], points[j], body, v[j], a[j], grad[j])
-        if body >= 0 and body < flow.wave_anchor.shape[0] and flow.wave_anchor_at[body, 3] == times[j]:
+        if slot and not flow.wave_anchor_at[0, 3] == before:
             taken += 1
     anchored_at[0] = taken
 
 
 @pytest.mark.parametrize("h", [20.0, math.inf])
 def test_a_body_along_a_path_sees_the_water_of_a_full_evaluation(h):
-    # an RK4-like sequence of points (a drifting, heaving body, 1 ms half steps) evaluated as body 1 of a flow
+    # an RK4-like sequence of points (a drifting, heaving body, 1 ms half steps) evaluated as body 0 of a flow
     # with anchors and as no body: the same kinematics to rounding, and most evaluations turned from an anchor
     flow = with_body_anchors(Flow.constant(waves=irregular_sea(h)).compiled("ned"), 3)
     n = 4000
     times = np.arange(n) * 5e-4
     points = np.column_stack([0.3 * times + 0.05 * np.sin(2 * times), -0.2 * times, 3.0 + 0.4 * np.sin(1.3 * times)])
     out = {}
-    for body in (1, -1):
+    for body in (0, -1):
         v, a, grad, taken = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros(1, dtype=np.int64)
         _along(flow, times, points, body, v, a, grad, taken)
         out[body] = v, a, grad, int(taken[0])
-    v1, a1, g1, taken = out[1]
+    v1, a1, g1, taken = out[0]
     v0, a0, g0, _ = out[-1]
     assert 0 < taken < n // 10                      # anchors renewed, but most points turned from one
     scale = np.abs(v0).max()
     np.testing.assert_allclose(v1, v0, rtol=0, atol=1e-13 * scale)
     np.testing.assert_allclose(a1, a0, rtol=0, atol=1e-13 * np.abs(a0).max())
     np.testing.assert_allclose(g1, g0, rtol=0, atol=1e-13 * np.abs(g0).max())
-    assert np.all(np.isnan(flow.wave_anchor_at[[0, 2]]))      # the other bodies' anchors untouched
+    assert np.all(np.isnan(flow.wave_anchor_at[[1, 2]]))      # the other bodies' anchors untouched
 
 
 def test_a_body_without_an_anchor_slot_is_evaluated_in_full():
@@ -185,3 +190,37 @@ def test_a_body_without_an_anchor_slot_is_evaluated_in_full():
     v0, a0, _ = Flow.constant(waves=irregular_sea(20.0)).kinematics(1.0001, [0.0, 0.0, 3.0], "ned")
     np.testing.assert_array_equal(v[1], v0[0])
     assert np.all(np.isnan(flow.wave_anchor_at))
+
+
+@njit(cache=True)
+def _bodies_then_points(flow, times, points, v, a, grad, v_full, a_full, grad_full):
+    """At each time, ``bodies_waves`` for all the bodies at ``points[j]`` (B, 3), then each body's kinematics
+    from its sums and the same points evaluated in full (body -1)."""
+    for j in range(times.shape[0]):
+        bodies_waves(flow, points[j], times[j], points.shape[1])
+        for b in range(points.shape[1]):
+            v[j, b] = 0.0
+            a[j, b] = 0.0
+            v_full[j, b] = 0.0
+            a_full[j, b] = 0.0
+            waves_add(flow, times[j], points[j, b], b, v[j, b], a[j, b], grad[j, b])
+            waves_add(flow, times[j], points[j, b], -1, v_full[j, b], a_full[j, b], grad_full[j, b])
+
+
+def test_the_bodies_of_one_call_each_see_the_water_at_their_own_point():
+    # three bodies 0.4 m apart, moving differently, through one wave_sums_near call per time: each body's sums are
+    # its own (not a neighbour's) and match a full evaluation at its point to rounding
+    flow = with_body_anchors(Flow.constant(waves=irregular_sea(20.0)).compiled("ned"), 3)
+    times = np.arange(2000) * 5e-4
+    offsets = np.array([[0.0, 0.0, 3.0], [0.4, 0.0, 3.2], [0.4, 0.4, 3.5]])
+    motion = np.stack([np.column_stack([0.2 * times, 0.1 * np.sin(times), 0.05 * np.sin(2 * times)]) * (b + 1)
+                       for b in range(3)], axis=1)
+    points = offsets[None] + motion
+    shape = (times.size, 3, 3)
+    v, a, v_full, a_full = (np.zeros(shape) for _ in range(4))
+    grad, grad_full = np.zeros(shape + (3,)), np.zeros(shape + (3,))
+    _bodies_then_points(flow, times, points, v, a, grad, v_full, a_full, grad_full)
+    for mine, full in ((v, v_full), (a, a_full), (grad, grad_full)):
+        np.testing.assert_allclose(mine, full, rtol=0, atol=1e-13 * np.abs(full).max())
+    assert np.abs(v_full[:, 0] - v_full[:, 2]).max() > 1e-3 * np.abs(v_full).max()   # the bodies' water differs
+    assert np.all(np.isfinite(flow.wave_anchor_at))

@@ -113,7 +113,7 @@ class Workspace(NamedTuple):
     shape_work: np.ndarray  # (12,) the shape drag kernel's work array (hydro.shapes.WORK_SIZE)
     R_world: np.ndarray     # (nb, 3, 3) body-to-world rotation (outward pass, non-uniform flows only)
     p_world: np.ndarray     # (nb, 3) body origin in the world [m] (outward pass, non-uniform flows only)
-    point: np.ndarray       # (3,) where the water is evaluated (a body's centre of buoyancy, world) [m]
+    points: np.ndarray      # (nb, 3) where the water is evaluated: each body's centre of buoyancy, world [m]
     fluid_v: np.ndarray     # (3,) the water's velocity there, world [m/s] (hydro.flow.fluid_at)
     fluid_a: np.ndarray     # (3,) the water's material acceleration there, world [m/s^2]
     fluid_grad: np.ndarray  # (3, 3) the water's velocity gradient there, du_r/dx_c [1/s]
@@ -225,6 +225,6 @@ def make_workspace(n_bodies: int) -> Workspace:
         h=np.zeros(6), pa=np.zeros(6), rhs=np.zeros(6), f_ee=np.zeros(6), no_wrench=np.zeros(6), sw=np.zeros(6),
         column=np.zeros(6), column_up=np.zeros(6), a_fluid=np.zeros(6), nu_c=np.zeros(6), f_c=np.zeros(6),
         shape_work=np.zeros(WORK_SIZE), R_world=np.zeros((nb, 3, 3)), p_world=np.zeros((nb, 3)),
-        point=np.zeros(3), fluid_v=np.zeros(3), fluid_a=np.zeros(3),
+        points=np.zeros((nb, 3)), fluid_v=np.zeros(3), fluid_a=np.zeros(3),
         fluid_grad=np.zeros((3, 3)), table_v=np.zeros(3), table_a=np.zeros(3),
     )

@@ -24,7 +24,7 @@ from uvms.hydro.added_mass import added_mass_force
 from uvms.hydro.buoyancy import buoyancy_force, gravity_force
 from uvms.hydro.current import fluid_acceleration_in_body, relative_velocity
 from uvms.hydro.drag import link_drag_force, vehicle_drag_force
-from uvms.hydro.flow import local_parts_add, uniform_at
+from uvms.hydro.flow import bodies_waves, local_parts_add, uniform_at
 from uvms.hydro.fossen import CROSS_ABS_END, CROSS_END, CROSS_ROWS, fossen_cross_damping_force, fossen_damping_force
 from uvms.hydro.shapes import shapes_drag_force
 from uvms.jit import block
@@ -113,22 +113,47 @@ def body_hydro_forces(km, ws, i):
 
 
 @block
+def body_poses(km, ws, R0, p0, q):
+    """Every body's joint transform (``ws.E[i]``, ``ws.r[i]``), world pose ``R_i = R_p E_i^T``, ``p_i = p_p +
+    R_p r_i`` (``ws.R_world``, ``ws.p_world``; the vehicle's ``R0``, ``p0``) and centre of buoyancy in the world
+    ``p_i + R_i b_i`` (``ws.points``), base to tip: where a flow that varies in space is evaluated."""
+    for i in range(km.parent.shape[0]):
+        R = ws.R_world[i]
+        if i == 0:
+            for r in range(3):
+                ws.p_world[0, r] = p0[r]
+                for k in range(3):
+                    R[r, k] = R0[r, k]
+        else:
+            p = km.parent[i]
+            E = ws.E[i]
+            ri = ws.r[i]
+            joint_transform(km.tree_E[i], km.tree_r[i], km.joint_kind[i], km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET],
+                            E, ri)
+            Rp = ws.R_world[p]
+            for r in range(3):
+                ws.p_world[i, r] = ws.p_world[p, r] + Rp[r, 0] * ri[0] + Rp[r, 1] * ri[1] + Rp[r, 2] * ri[2]
+                for k in range(3):
+                    R[r, k] = Rp[r, 0] * E[k, 0] + Rp[r, 1] * E[k, 1] + Rp[r, 2] * E[k, 2]
+        b = km.cob[i]
+        for r in range(3):
+            ws.points[i, r] = ws.p_world[i, r] + R[r, 0] * b[0] + R[r, 1] * b[1] + R[r, 2] * b[2]
+
+
+@block
 def body_fluid(km, ws, flow, t, i):
-    """The water at body ``i`` (:func:`uvms.hydro.flow.fluid_at` at its centre of buoyancy ``p_i + R_i b_i``,
-    world pose ``R_i = ws.R_world[i]``, ``p_i = ws.p_world[i]``) in body axes: ``ws.vc[i] = R_i^T u_f``,
+    """The water at body ``i`` (:func:`uvms.hydro.flow.fluid_at` at its centre of buoyancy ``ws.points[i]``,
+    world pose ``R_i = ws.R_world[i]``; :func:`body_poses`) in body axes: ``ws.vc[i] = R_i^T u_f``,
     ``ws.af[i] = R_i^T a_f``. The uniform part is the stage's (``ws.table_v``, ``ws.table_a``: evaluated once
-    per pass), the parts that vary in space are added at the point (:func:`uvms.hydro.flow.local_parts_add`)."""
+    per pass), the waves' sums every body's at once before (:func:`uvms.hydro.flow.bodies_waves`), the other
+    parts that vary in space are added at the point (:func:`uvms.hydro.flow.local_parts_add`)."""
     R = ws.R_world[i]
-    p = ws.p_world[i]
-    b = km.cob[i]
-    point = ws.point
     u_f = ws.fluid_v
     a_f = ws.fluid_a
     for r in range(3):
-        point[r] = p[r] + R[r, 0] * b[0] + R[r, 1] * b[1] + R[r, 2] * b[2]
         u_f[r] = ws.table_v[r]
         a_f[r] = ws.table_a[r]
-    local_parts_add(flow, t, point, i, u_f, a_f, ws.fluid_grad)
+    local_parts_add(flow, t, ws.points[i], i, u_f, a_f, ws.fluid_grad)
     for k in range(3):
         ws.vc[i, k] = R[0, k] * u_f[0] + R[1, k] * u_f[1] + R[2, k] * u_f[2]
         ws.af[i, k] = R[0, k] * a_f[0] + R[1, k] * a_f[1] + R[2, k] * a_f[2]
@@ -143,9 +168,9 @@ def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
     ``R0`` is the vehicle's body-to-world rotation, ``p0`` its world position, ``nu`` its body velocity
     ``[omega; v]``, ``flow`` the water (:class:`uvms.hydro.flow.FlowData`) and ``t`` the time [s]. A uniform
     flow (``flow.uniform_only``) is evaluated once and its world vectors rotated down the tree like gravity;
-    any other at every body's own centre of buoyancy (:func:`body_fluid`; its uniform table once per pass),
-    with the body's world pose ``R_i = R_p E_i^T``, ``p_i = p_p + R_p r_i`` carried along (``ws.R_world``,
-    ``ws.p_world``).
+    any other at every body's own centre of buoyancy (:func:`body_fluid`; its uniform table once per pass), the
+    bodies' joint transforms and world poses first (:func:`body_poses`), then the waves of all of them in one
+    call (:func:`uvms.hydro.flow.bodies_waves`).
     """
     nb = km.parent.shape[0]
     h = ws.h
@@ -156,6 +181,8 @@ def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
         uniform_at(flow, t, v_current, a_fluid)
     else:
         uniform_at(flow, t, ws.table_v, ws.table_a)
+        body_poses(km, ws, R0, p0, q)
+        bodies_waves(flow, ws.points, t, nb)
     for i in range(nb):
         vi = ws.v[i]
         ci = ws.c[i]
@@ -167,10 +194,6 @@ def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
                     ws.vc[0, k] = R0[0, k] * v_current[0] + R0[1, k] * v_current[1] + R0[2, k] * v_current[2]
                     ws.af[0, k] = R0[0, k] * a_fluid[0] + R0[1, k] * a_fluid[1] + R0[2, k] * a_fluid[2]
             else:
-                for r in range(3):
-                    ws.p_world[0, r] = p0[r]
-                    for k in range(3):
-                        ws.R_world[0, r, k] = R0[r, k]
                 body_fluid(km, ws, flow, t, 0)
             for k in range(6):
                 vi[k] = nu[k]
@@ -179,7 +202,9 @@ def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
             p = km.parent[i]
             kind = km.joint_kind[i]
             E = ws.E[i]
-            joint_transform(km.tree_E[i], km.tree_r[i], kind, km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET], E, ws.r[i])
+            if uniform:                          # (else done by body_poses)
+                joint_transform(km.tree_E[i], km.tree_r[i], kind, km.S[i], q[i - 1] + km.joint[i, JOINT_OFFSET], E,
+                                ws.r[i])
             transform_motion(E, ws.r[i], ws.v[p], vi)
             w = qd[i - 1]
             if kind == JOINT_Z:                  # S = e_z: the DH fast path
@@ -200,14 +225,7 @@ def outward_pass(km, ws, R0, p0, nu, q, qd, flow, t):
             if uniform:
                 mat3_vec(E, ws.vc[p], ws.vc[i])
                 mat3_vec(E, ws.af[p], ws.af[i])
-            else:                                # R_i = R_p E_i^T, p_i = p_p + R_p r_i
-                Rp = ws.R_world[p]
-                Ri = ws.R_world[i]
-                ri = ws.r[i]
-                for r in range(3):
-                    ws.p_world[i, r] = ws.p_world[p, r] + Rp[r, 0] * ri[0] + Rp[r, 1] * ri[1] + Rp[r, 2] * ri[2]
-                    for k in range(3):
-                        Ri[r, k] = Rp[r, 0] * E[k, 0] + Rp[r, 1] * E[k, 1] + Rp[r, 2] * E[k, 2]
+            else:
                 body_fluid(km, ws, flow, t, i)
         # bias force p_i = v_i x* I_i v_i - f_i^hydro and articulated inertia IA_i = I^H_i
         pA = ws.pA[i]

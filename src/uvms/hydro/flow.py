@@ -39,19 +39,20 @@ particle (``docs/flow.md``). A uniform table has no gradient: its ``a_f`` is its
 
   computed as ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-2 k h} e^{-k zeta}) / (1 - e^{-2 k h})``
   (and the ``sinh`` ratio with a minus), one exponential pair per component, finite for every ``k h`` and
-  ``e^{k zeta}`` in deep water (``h = inf``). The sums over the components are twelve dot products of fixed
+  ``e^{k zeta}`` in deep water (``h = inf``). The sums over the components are eleven dot products of fixed
   weights (:data:`UX` ...) with four terms per component (:func:`wave_terms_fast`: vectorised sine, cosine and
   exponential of :mod:`uvms.hydro.elementary`, when every phase is within their range; else
   :func:`wave_terms_libm`), ``docs/flow.md``, "Cost". Above the mean surface (``zeta > 0``, inside a crest) the
   kinematics are held at their ``zeta = 0`` values (constant extrapolation; linear theory says nothing there);
   below the seabed (``zeta < -h``) at the bed's.
 
-  **Anchors**: a plant's bodies (:func:`with_body_anchors`) keep the terms (``sin theta``, ``cos theta``, ``ch``,
-  ``sh`` of every component) of their last full evaluation. While a body's point and time stay within
+  **Anchors**: a plant's bodies (:func:`with_body_anchors`) keep the terms (``ch cos theta``, ``ch sin theta``,
+  ``sh / ch`` of every component) of their last full evaluation. While a body's point and time stay within
   :data:`NEAR` (1/32 rad) of that anchor in every phase and in ``k dzeta``, its sums come from the anchor's
   terms turned by the angle-addition formulas (:func:`wave_sums_near`: short series, no range reduction, sums
-  in the same loop); otherwise a full evaluation there becomes the new anchor. Both are exact formulas and agree
-  to a few ulps (``tests/hydro/test_wave_kernels.py``); a point that is no body's is always evaluated in full.
+  in the same loop); otherwise a full evaluation at its point, placed :data:`LEAD` of the reach ahead in time,
+  becomes the new anchor, and the body's sums are turned from it too. Both are exact formulas and agree to a few
+  ulps (``tests/hydro/test_wave_kernels.py``); a point that is no body's is always evaluated in full.
 """
 
 from __future__ import annotations
@@ -62,8 +63,8 @@ from typing import NamedTuple
 import numpy as np
 
 from uvms.hydro.elementary import (SIN_COS_LIMIT, SMALL_LIMIT, exp_pair_reduced, sin_cos_reduced, sin_cos_small,
-                                   sinh_cosh_small)
-from uvms.jit import block, fused_kernel, kernel, sum_kernel
+                                   sinh_cosh_scaled, small_hyperbolic_coefficients)
+from uvms.jit import block, fused_kernel, kernel, sum_block, sum_kernel
 from uvms.lookup import last_at_or_before
 
 HOLD, ZERO, ERROR = 0, 1, 2
@@ -76,35 +77,41 @@ _NEGLIGIBLE = -700.0
 
 WAVE_LANES = 8
 """The wave arrays' length is padded to a multiple of this (eight float64 lanes of an AVX-512 register)."""
-WAVENUMBER, K_X, K_Y, OMEGA, PHASE, COS_B, SIN_B, AW, AW2, BED, NORM = range(11)
+WAVENUMBER, K_X, K_Y, OMEGA, PHASE, COS_B, SIN_B, AW, AW2, BED, NORM, K_SQUARED = range(12)
 """Rows of :attr:`FlowData.wave_table`: ``k``, ``k cos b``, ``k sin b``, ``w``, ``phi``, ``cos b``, ``sin b``,
-``a w``, ``a w^2``, ``e^{-2 k h}`` (0 in deep water), ``1 / (1 - e^{-2 k h})``."""
-WAVE_ROWS = 11
+``a w``, ``a w^2``, ``e^{-2 k h}`` (0 in deep water), ``1 / (1 - e^{-2 k h})``, ``k^2``."""
+WAVE_ROWS = 12
 CH_C, CH_S, SH_S, SH_C = range(4)
 """Rows of :attr:`FlowData.wave_work`: ``ch cos(theta)``, ``ch sin(theta)``, ``sh sin(theta)``, ``sh cos(theta)``
 with ``ch = cosh(k (zeta + h)) / sinh(k h)``, ``sh = sinh(k (zeta + h)) / sinh(k h)``."""
 WORK_ROWS = 4
-SIN, COS, CH, SH = range(4)
+ANCHOR_C, ANCHOR_S, RATIO = range(3)
 """Rows of a body's anchor terms (:attr:`FlowData.wave_anchor` ``[i]``) and of :attr:`FlowData.wave_point`:
-each component's ``sin(theta)``, ``cos(theta)``, ``ch`` and ``sh`` at one point and time."""
-TERM_ROWS = 4
+each component's ``ch cos(theta)``, ``ch sin(theta)`` and ``sh / ch`` at one point and time (the ratio 0 for a
+component dropped below the negligible depth, whose ``ch`` is 0)."""
+TERM_ROWS = 3
 X, Y, ZETA, T = range(4)
 """Columns of :attr:`FlowData.wave_anchor_at`: the anchor's world ``x``, ``y``, height ``zeta`` (held within
 ``[-h, 0]``) and time ``t``."""
 NEAR = SMALL_LIMIT
 """How far (in phase and in ``k`` times height) a body's point may lie from its anchor for its terms to be the
 anchor's turned by the angle-addition formulas (:func:`wave_sums_near`), in rad."""
-UX, UY, AX, AY, UZ, AZ, PCC, PCS, PSS, PSUM, QC, QS = range(12)
+LEAD = 0.75
+"""A new anchor is placed this fraction of :data:`NEAR` ahead in time (``LEAD NEAR / max w`` seconds after the
+point that asked for it, :func:`body_wave_sums`): time runs forward, so it serves the body on both sides of its
+own time, about twice as long as one placed at the point."""
+UX, UY, AX, AY, UZ, AZ, PCC, PCS, PSS, QC, QS = range(11)
 """The wave sums (:attr:`FlowData.wave_sums`; ``P = a w k ch sin(theta)``, ``Q = a w k sh cos(theta)``)::
 
     UX = sum a w cos b ch cos    UY = sum a w sin b ch cos    UZ = sum a w sh sin      AZ = -sum a w^2 sh cos
     AX = sum a w^2 cos b ch sin  AY = sum a w^2 sin b ch sin
-    PCC = sum P cos^2 b   PCS = sum P cos b sin b   PSS = sum P sin^2 b   PSUM = sum P
+    PCC = sum P cos^2 b   PCS = sum P cos b sin b   PSS = sum P sin^2 b
     QC = sum Q cos b      QS = sum Q sin b
 
 each ``sum_i weight_i work_i``: the weight a row of :attr:`FlowData.wave_weights`, the work row ``CH_S`` for
-the ``sin`` sums of ``ch``, and so on (:func:`wave_sums`)."""
-N_SUMS = 12
+the ``sin`` sums of ``ch``, and so on (:func:`wave_sums`). ``du_z/dzeta = sum P = PCC + PSS`` (the flow is
+incompressible: ``cos^2 b + sin^2 b = 1``) is not a sum of its own."""
+N_SUMS = 11
 REACH_KX, REACH_KY, REACH_PHASE, REACH_OMEGA, REACH_K = range(5)
 """Entries of :attr:`FlowData.wave_reach`: max ``|k cos b|``, max ``|k sin b|``, max ``|phi|``, max ``w``, max
 ``k`` over the components (bounds on the phases and their changes)."""
@@ -136,7 +143,9 @@ class FlowData(NamedTuple):
     wave_point: np.ndarray      # (TERM_ROWS, M) scratch: the terms at a point that is no body's
     wave_anchor: np.ndarray     # (B, TERM_ROWS, M) each body's terms at its anchor (B = 0: no anchors)
     wave_anchor_at: np.ndarray  # (B, 4) each anchor's x, y, zeta, t (NaN: none yet)
-    wave_sums: np.ndarray       # (N_SUMS,) scratch: the wave sums at one point
+    wave_deltas: np.ndarray     # (B, 4) scratch: each body's point and time less its anchor's (columns X ... T)
+    wave_body_sums: np.ndarray  # (B, N_SUMS) each body's wave sums at its point (bodies_waves)
+    wave_sums: np.ndarray       # (N_SUMS,) scratch: the wave sums at a point that is no body's
     water_depth: float          # h [m] (inf: deep)
     surface: float              # world z of the mean free surface [m]
     up: float                   # +1: world z up (enu), -1: down (ned)
@@ -299,8 +308,8 @@ def field_add(flow, t, point, v_out, a_out, grad):
 @fused_kernel
 def wave_terms_fast(table, work, terms, x, y, zeta, t):
     """Each component's depth factors times ``cos theta`` and ``sin theta`` into ``work`` (rows ``CH_C`` ...
-    ``SH_C``), and ``sin theta``, ``cos theta`` and the factors themselves into ``terms`` (rows ``SIN`` ...
-    ``SH``), at ``(x, y)`` and height ``zeta`` (already held within ``[-h, 0]``), time ``t``; with the
+    ``SH_C``), and ``ch cos theta``, ``ch sin theta`` and ``sh / ch`` into ``terms`` (rows ``ANCHOR_C`` ...
+    ``RATIO``), at ``(x, y)`` and height ``zeta`` (already held within ``[-h, 0]``), time ``t``; with the
     vectorisable :mod:`uvms.hydro.elementary` functions, for ``|theta| <= SIN_COS_LIMIT`` (the caller checks).
 
     ``cosh(k (zeta + h)) / sinh(k h) = (e^{k zeta} + e^{-2 k h} e^{-k zeta}) / (1 - e^{-2 k h})`` (and ``sinh``
@@ -314,10 +323,9 @@ def wave_terms_fast(table, work, terms, x, y, zeta, t):
         sh = (e_up - bed) * table[NORM, i] if live else 0.0
         theta = x * table[K_X, i] + y * table[K_Y, i] + (table[PHASE, i] - table[OMEGA, i] * t)
         s, c = sin_cos_reduced(theta)
-        terms[SIN, i] = s
-        terms[COS, i] = c
-        terms[CH, i] = ch
-        terms[SH, i] = sh
+        terms[ANCHOR_C, i] = ch * c
+        terms[ANCHOR_S, i] = ch * s
+        terms[RATIO, i] = sh / ch if live else 0.0
         work[CH_C, i] = ch * c
         work[CH_S, i] = ch * s
         work[SH_S, i] = sh * s
@@ -334,16 +342,16 @@ def wave_terms_libm(table, work, terms, x, y, zeta, t):
         theta = k * (x * table[COS_B, i] + y * table[SIN_B, i]) - table[OMEGA, i] * t + table[PHASE, i]
         c = math.cos(theta)
         s = math.sin(theta)
-        ch = sh = 0.0
+        ch = sh = ratio = 0.0
         if kz >= _NEGLIGIBLE:
             e = math.exp(kz)
             bed = table[BED, i] / e              # e^{-k (zeta + 2 h)}
             ch = (e + bed) * table[NORM, i]      # cosh(k (zeta + h)) / sinh(k h)
             sh = (e - bed) * table[NORM, i]      # sinh(k (zeta + h)) / sinh(k h)
-        terms[SIN, i] = s
-        terms[COS, i] = c
-        terms[CH, i] = ch
-        terms[SH, i] = sh
+            ratio = sh / ch
+        terms[ANCHOR_C, i] = ch * c
+        terms[ANCHOR_S, i] = ch * s
+        terms[RATIO, i] = ratio
         work[CH_C, i] = ch * c
         work[CH_S, i] = ch * s
         work[SH_S, i] = sh * s
@@ -351,40 +359,55 @@ def wave_terms_libm(table, work, terms, x, y, zeta, t):
 
 
 @sum_kernel
-def wave_sums_near(table, weights, anchor, out, dx, dy, dzeta, dt):
-    """The wave sums ``out`` (:func:`wave_sums`) at a point ``(dx, dy)`` [m], height ``dzeta`` [m] and time ``dt``
-    [s] from the anchor whose terms are ``anchor`` (rows ``SIN`` ... ``SH``), for ``|d theta| <= NEAR`` and
-    ``k |dzeta| <= NEAR`` (the caller checks): each component's terms turned by the angle-addition formulas
-    (exact)::
+def wave_sums_near(table, weights, anchors, deltas, out, count):
+    """The wave sums ``out[b]`` (:func:`wave_sums`) of bodies ``b < count``, each at the point ``(dx, dy)`` [m],
+    height ``dzeta`` [m] and time ``dt`` [s] (``deltas[b]``, columns ``X`` ... ``T``) from its anchor, whose terms
+    are ``anchors[b]`` (rows ``ANCHOR_C`` ... ``RATIO``), for ``|d theta| <= NEAR`` and ``k |dzeta| <= NEAR`` (the
+    caller checks): each component's terms turned by the angle-addition formulas (exact)::
 
         d theta = k cos b dx + k sin b dy - w dt
-        sin(theta + d theta) = sin theta cos d theta + cos theta sin d theta
-        cos(theta + d theta) = cos theta cos d theta - sin theta sin d theta
-        ch(zeta + dzeta) = ch(zeta) cosh(k dzeta) + sh(zeta) sinh(k dzeta)
-        sh(zeta + dzeta) = sh(zeta) cosh(k dzeta) + ch(zeta) sinh(k dzeta)
+        ch0 e^{i (theta + d theta)} = ch0 e^{i theta} (cos d theta + i sin d theta)     (ch0 = ch(zeta))
+        ch(zeta + dzeta) / ch0 = cosh(k dzeta) + (sh0 / ch0) sinh(k dzeta)
+        sh(zeta + dzeta) / ch0 = (sh0 / ch0) cosh(k dzeta) + sinh(k dzeta)
 
-    (``ch = cosh(k (zeta + h)) / sinh(k h)``, ``sh`` with ``sinh``), the small angles' functions from their
-    short series (:func:`uvms.hydro.elementary.sin_cos_small`, :func:`~uvms.hydro.elementary.sinh_cosh_small`):
-    no range reduction, so the loop may be reassociated (:data:`uvms.jit.sum_kernel`; the series' terms fall
-    fast, nothing cancels) and the sums taken in the same loop. Within a few ulps of a full evaluation at the
-    point (``tests/hydro/test_wave_kernels.py``)."""
-    ux = uy = ax = ay = uz = az = p_cc = p_cs = p_ss = p_sum = q_c = q_s = 0.0
+    (``ch = cosh(k (zeta + h)) / sinh(k h)``, ``sh`` with ``sinh``; the anchor holds ``ch0 cos theta``, ``ch0 sin
+    theta`` and ``sh0 / ch0``, so that the four products of the sums are the two ratios times the turned
+    ``ch0 e^{i theta}``: 39 operations per component), the small angles' functions from their
+    short series (:func:`uvms.hydro.elementary.sin_cos_small`; the hyperbolic pair as polynomials in ``k^2``
+    whose coefficients depend on ``dzeta`` alone, :func:`~uvms.hydro.elementary.sinh_cosh_scaled`): no range
+    reduction, so the loop may be reassociated (:data:`uvms.jit.sum_kernel`; the series' terms fall fast,
+    nothing cancels) and the sums taken in the same loop. Within a few ulps of a full evaluation at the point
+    (``tests/hydro/test_wave_kernels.py``). All the bodies of a plant in one call: the components' constants
+    are loaded from memory once for all of them (``docs/flow.md``, "Cost")."""
+    for b in range(count):
+        anchor = anchors[b]
+        dx = deltas[b, X]
+        dy = deltas[b, Y]
+        dzeta = deltas[b, ZETA]
+        dt = deltas[b, T]
+        sums_near(table, weights, anchor, out[b], dx, dy, dzeta, dt)
+
+
+@sum_block
+def sums_near(table, weights, anchor, out, dx, dy, dzeta, dt):
+    """One body's loop of :func:`wave_sums_near` (inlined there)."""
+    vertical = small_hyperbolic_coefficients(dzeta)
+    ux = uy = ax = ay = uz = az = p_cc = p_cs = p_ss = q_c = q_s = 0.0
     for i in range(table.shape[1]):
         d = dx * table[K_X, i] + dy * table[K_Y, i] - dt * table[OMEGA, i]
         sd, cd = sin_cos_small(d)
-        se, ce = sinh_cosh_small(table[WAVENUMBER, i] * dzeta)
-        s0 = anchor[SIN, i]
-        c0 = anchor[COS, i]
-        ch0 = anchor[CH, i]
-        sh0 = anchor[SH, i]
-        s = s0 * cd + c0 * sd
-        c = c0 * cd - s0 * sd
-        ch = ch0 * ce + sh0 * se
-        sh = sh0 * ce + ch0 * se
-        ch_c = ch * c
-        ch_s = ch * s
-        sh_s = sh * s
-        sh_c = sh * c
+        se, ce = sinh_cosh_scaled(table[WAVENUMBER, i], table[K_SQUARED, i], vertical)
+        re0 = anchor[ANCHOR_C, i]
+        im0 = anchor[ANCHOR_S, i]
+        rho = anchor[RATIO, i]
+        re = re0 * cd - im0 * sd                 # ch0 cos(theta + d theta)
+        im = im0 * cd + re0 * sd                 # ch0 sin(theta + d theta)
+        g = ce + rho * se                        # ch(zeta + dzeta) / ch0
+        f = rho * ce + se                        # sh(zeta + dzeta) / ch0
+        ch_c = g * re
+        ch_s = g * im
+        sh_s = f * im
+        sh_c = f * re
         ux += weights[UX, i] * ch_c
         uy += weights[UY, i] * ch_c
         ax += weights[AX, i] * ch_s
@@ -394,7 +417,6 @@ def wave_sums_near(table, weights, anchor, out, dx, dy, dzeta, dt):
         p_cc += weights[PCC, i] * ch_s
         p_cs += weights[PCS, i] * ch_s
         p_ss += weights[PSS, i] * ch_s
-        p_sum += weights[PSUM, i] * ch_s
         q_c += weights[QC, i] * sh_c
         q_s += weights[QS, i] * sh_c
     out[UX] = ux
@@ -406,7 +428,6 @@ def wave_sums_near(table, weights, anchor, out, dx, dy, dzeta, dt):
     out[PCC] = p_cc
     out[PCS] = p_cs
     out[PSS] = p_ss
-    out[PSUM] = p_sum
     out[QC] = q_c
     out[QS] = q_s
 
@@ -415,7 +436,7 @@ def wave_sums_near(table, weights, anchor, out, dx, dy, dzeta, dt):
 def wave_sums(weights, work, out):
     """The wave sums ``out[j] = sum_i weights[j, i] work[row(j), i]`` (rows ``UX`` ... ``QS``: the module
     constants' docstring), as dot products over the components (reassociated: vectorised)."""
-    ux = uy = ax = ay = uz = az = p_cc = p_cs = p_ss = p_sum = q_c = q_s = 0.0
+    ux = uy = ax = ay = uz = az = p_cc = p_cs = p_ss = q_c = q_s = 0.0
     for i in range(work.shape[1]):
         ch_c = work[CH_C, i]
         ch_s = work[CH_S, i]
@@ -430,7 +451,6 @@ def wave_sums(weights, work, out):
         p_cc += weights[PCC, i] * ch_s
         p_cs += weights[PCS, i] * ch_s
         p_ss += weights[PSS, i] * ch_s
-        p_sum += weights[PSUM, i] * ch_s
         q_c += weights[QC, i] * sh_c
         q_s += weights[QS, i] * sh_c
     out[UX] = ux
@@ -442,7 +462,6 @@ def wave_sums(weights, work, out):
     out[PCC] = p_cc
     out[PCS] = p_cs
     out[PSS] = p_ss
-    out[PSUM] = p_sum
     out[QC] = q_c
     out[QS] = q_s
 
@@ -477,27 +496,44 @@ def wave_terms(flow, terms, x, y, zeta, t):
 
 
 @block
-def body_wave_sums(flow, body, x, y, zeta, t):
-    """The wave sums (``flow.wave_sums``) for body ``body`` at ``(x, y)``, height ``zeta`` and time ``t``: turned
-    from its anchor (:func:`wave_sums_near`) when the point lies within :data:`NEAR` of it in every component's
-    phase (``|dx| max|k cos b| + |dy| max|k sin b| + |dt| max w``) and in ``k |dzeta|``; else a full evaluation
-    there (:func:`wave_terms`, :func:`wave_sums`), which becomes the body's anchor."""
+def anchor_delta(flow, body, x, y, zeta, t):
+    """``flow.wave_deltas[body]``: body ``body``'s point ``(x, y)``, height ``zeta`` and time ``t`` less its
+    anchor's, once the anchor is within :data:`NEAR` of it in every component's phase (``|dx| max|k cos b| +
+    |dy| max|k sin b| + |dt| max w``) and in ``k |dzeta|``. Else the body takes a new anchor first: a full
+    evaluation (:func:`wave_terms`) at its point, :data:`LEAD` ``NEAR / max w`` seconds ahead in time (its delta
+    is then that lead, back in time)."""
     at = flow.wave_anchor_at[body]
-    dx = x - at[X]
-    dy = y - at[Y]
-    dzeta = zeta - at[ZETA]
-    dt = t - at[T]
+    delta = flow.wave_deltas[body]
+    delta[X] = x - at[X]
+    delta[Y] = y - at[Y]
+    delta[ZETA] = zeta - at[ZETA]
+    delta[T] = t - at[T]
     reach = flow.wave_reach
-    phase = abs(dx) * reach[REACH_KX] + abs(dy) * reach[REACH_KY] + abs(dt) * reach[REACH_OMEGA]
-    if phase <= NEAR and abs(dzeta) * reach[REACH_K] <= NEAR:            # (false for a NaN: no anchor yet)
-        wave_sums_near(flow.wave_table, flow.wave_weights, flow.wave_anchor[body], flow.wave_sums, dx, dy, dzeta, dt)
+    phase = abs(delta[X]) * reach[REACH_KX] + abs(delta[Y]) * reach[REACH_KY] + abs(delta[T]) * reach[REACH_OMEGA]
+    if not (phase <= NEAR and abs(delta[ZETA]) * reach[REACH_K] <= NEAR):      # (true for a NaN: no anchor yet)
+        lead = LEAD * NEAR / reach[REACH_OMEGA]
+        wave_terms(flow, flow.wave_anchor[body], x, y, zeta, t + lead)
+        at[X] = x
+        at[Y] = y
+        at[ZETA] = zeta
+        at[T] = t + lead
+        delta[X] = delta[Y] = delta[ZETA] = 0.0
+        delta[T] = -lead
+
+
+@block
+def bodies_waves(flow, points, t, count):
+    """The wave sums of bodies ``0 ... count - 1`` at their world ``points[b]`` and time ``t`` into
+    ``flow.wave_body_sums[b]``: each body's delta from its anchor (:func:`anchor_delta`, renewing it where
+    needed), then one :func:`wave_sums_near` for all of them. Bodies beyond the anchors' count, and flows
+    without waves, are left alone (:func:`waves_add` evaluates those in full)."""
+    n = min(count, flow.wave_anchor.shape[0])
+    if n == 0:
         return
-    wave_terms(flow, flow.wave_anchor[body], x, y, zeta, t)
-    wave_sums(flow.wave_weights, flow.wave_work, flow.wave_sums)
-    at[X] = x
-    at[Y] = y
-    at[ZETA] = zeta
-    at[T] = t
+    for b in range(n):
+        zeta, _ = wave_height(flow, points[b])
+        anchor_delta(flow, b, points[b, 0], points[b, 1], zeta, t)
+    wave_sums_near(flow.wave_table, flow.wave_weights, flow.wave_anchor, flow.wave_deltas, flow.wave_body_sums, n)
 
 
 @block
@@ -506,14 +542,16 @@ def waves_add(flow, t, point, body, v_out, a_out, grad):
     every component at ``point`` and ``t`` (module docstring), held at the mean surface above it and at the bed
     below it (there the vertical derivatives are zero).
 
-    The sums come from :func:`body_wave_sums` when ``point`` is body ``body``'s (``0 <= body <`` the anchors'
-    count), else from the components' terms there (:func:`wave_terms`, :func:`wave_sums`)."""
+    The sums are body ``body``'s, ``flow.wave_body_sums[body]``, when ``point`` is that body's and it has an
+    anchor (``0 <= body <`` the anchors' count): the caller has evaluated them with :func:`bodies_waves` at
+    ``point`` and ``t``. Else (``body = -1``) they come from the components' terms there (:func:`wave_terms`,
+    :func:`wave_sums`)."""
     up = flow.up
     zeta, held = wave_height(flow, point)
-    S = flow.wave_sums
     if 0 <= body < flow.wave_anchor.shape[0]:
-        body_wave_sums(flow, body, point[0], point[1], zeta, t)
+        S = flow.wave_body_sums[body]
     else:
+        S = flow.wave_sums
         wave_terms(flow, flow.wave_point, point[0], point[1], zeta, t)
         wave_sums(flow.wave_weights, flow.wave_work, S)
     v_out[0] += S[UX]
@@ -531,7 +569,7 @@ def waves_add(flow, t, point, body, v_out, a_out, grad):
     grad[1, 2] += S[QS] * vz
     grad[2, 0] += up * S[QC]
     grad[2, 1] += up * S[QS]
-    grad[2, 2] += up * vz * S[PSUM]
+    grad[2, 2] += up * vz * (S[PCC] + S[PSS])        # du_z/dzeta = sum a w k ch sin theta
 
 
 @block
@@ -539,8 +577,8 @@ def local_parts_add(flow, t, point, body, v_out, a_out, grad):
     """The parts that vary in space at the world ``point`` (3,) and time ``t``, added to ``v_out``, ``a_out``
     (world, (3,); holding the uniform part, :func:`uniform_at`): profile, field and waves, then the convective
     acceleration ``a_out += (grad u) u`` (module docstring); ``grad`` (3, 3) is scratch, left holding
-    ``grad[r, c] = du_r/dx_c``. ``body`` is the index of the body whose point it is (its wave anchor,
-    :func:`body_wave_sums`), or -1."""
+    ``grad[r, c] = du_r/dx_c``. ``body`` is the index of the body whose point it is, its wave sums evaluated
+    with :func:`bodies_waves` at ``point`` and ``t`` before, or -1 (waves evaluated here, :func:`waves_add`)."""
     for r in range(3):
         for c in range(3):
             grad[r, c] = 0.0
@@ -671,7 +709,8 @@ class Flow:
             field_z=fz.copy(), field_t=ft.copy(), field_velocity=fv.copy(), field_outside=int(outside),
             wave_table=table, wave_weights=weights, wave_reach=reach, wave_work=np.zeros((WORK_ROWS, table.shape[1])),
             wave_point=np.zeros((TERM_ROWS, table.shape[1])), wave_anchor=np.zeros((0, TERM_ROWS, table.shape[1])),
-            wave_anchor_at=np.zeros((0, 4)), wave_sums=np.zeros(N_SUMS), water_depth=float(h),
+            wave_anchor_at=np.zeros((0, 4)), wave_deltas=np.zeros((0, 4)), wave_body_sums=np.zeros((0, N_SUMS)),
+            wave_sums=np.zeros(N_SUMS), water_depth=float(h),
             surface=float(self.surface), up=up, status=np.zeros(1, dtype=np.int64))
 
     def at(self, t: float, points, convention: str = "ned") -> tuple[np.ndarray, np.ndarray]:
@@ -724,11 +763,11 @@ def _wave_arrays(a, w, k, b, phase, h) -> tuple[np.ndarray, np.ndarray, np.ndarr
     aw, aw2 = amplitude * w, amplitude * w * w
     table[WAVENUMBER], table[K_X], table[K_Y], table[OMEGA], table[PHASE] = k, k * cb, k * sb, w, phase
     table[COS_B], table[SIN_B], table[AW], table[AW2] = cb, sb, aw, aw2
-    table[BED], table[NORM] = bed, 1.0 / (1.0 - bed)
+    table[BED], table[NORM], table[K_SQUARED] = bed, 1.0 / (1.0 - bed), k * k
     awk = aw * k
     weights[UX], weights[UY], weights[AX], weights[AY] = aw * cb, aw * sb, aw2 * cb, aw2 * sb
     weights[UZ], weights[AZ] = aw, -aw2
-    weights[PCC], weights[PCS], weights[PSS], weights[PSUM] = awk * cb * cb, awk * cb * sb, awk * sb * sb, awk
+    weights[PCC], weights[PCS], weights[PSS] = awk * cb * cb, awk * cb * sb, awk * sb * sb
     weights[QC], weights[QS] = awk * cb, awk * sb
     reach = np.array([np.abs(table[K_X]).max(), np.abs(table[K_Y]).max(), np.abs(phase).max(), w.max(), k.max()])
     return table, weights, reach
@@ -742,7 +781,8 @@ def with_body_anchors(flow: FlowData, n_bodies: int) -> FlowData:
     bodies = n_bodies if m > 0 else 0
     return flow._replace(wave_work=np.zeros_like(flow.wave_work), wave_point=np.zeros_like(flow.wave_point),
                          wave_sums=np.zeros_like(flow.wave_sums),
-                         wave_anchor=np.zeros((bodies, TERM_ROWS, m)), wave_anchor_at=np.full((bodies, 4), np.nan))
+                         wave_anchor=np.zeros((bodies, TERM_ROWS, m)), wave_anchor_at=np.full((bodies, 4), np.nan),
+                         wave_deltas=np.zeros((bodies, 4)), wave_body_sums=np.zeros((bodies, N_SUMS)))
 
 
 def uniform_flow_data(times, velocity, acceleration) -> FlowData:
