@@ -98,7 +98,7 @@ NEAR = SMALL_LIMIT
 anchor's turned by the angle-addition formulas (:func:`wave_sums_near`), in rad."""
 LEAD = 0.75
 """A new anchor is placed this fraction of :data:`NEAR` ahead in time (``LEAD NEAR / max w`` seconds after the
-point that asked for it, :func:`body_wave_sums`): time runs forward, so it serves the body on both sides of its
+point that asked for it, :func:`anchor_delta`): time runs forward, so it serves the body on both sides of its
 own time, about twice as long as one placed at the point."""
 UX, UY, AX, AY, UZ, AZ, PCC, PCS, PSS, QC, QS = range(11)
 """The wave sums (:attr:`FlowData.wave_sums`; ``P = a w k ch sin(theta)``, ``Q = a w k sh cos(theta)``)::
@@ -377,8 +377,9 @@ def wave_sums_near(table, weights, anchors, deltas, out, count):
     whose coefficients depend on ``dzeta`` alone, :func:`~uvms.hydro.elementary.sinh_cosh_scaled`): no range
     reduction, so the loop may be reassociated (:data:`uvms.jit.sum_kernel`; the series' terms fall fast,
     nothing cancels) and the sums taken in the same loop. Within a few ulps of a full evaluation at the point
-    (``tests/hydro/test_wave_kernels.py``). All the bodies of a plant in one call: the components' constants
-    are loaded from memory once for all of them (``docs/flow.md``, "Cost")."""
+    (``tests/hydro/test_wave_kernels.py``). One call for all the bodies of a plant (:func:`bodies_waves`): one
+    call's overhead per stage, and the components' constants stay in cache from body to body (``docs/flow.md``,
+    "Cost")."""
     for b in range(count):
         anchor = anchors[b]
         dx = deltas[b, X]
