@@ -56,9 +56,6 @@ SUMS = {"fastmath": {"contract", "reassoc"}, **OPTIONS}
 
 sum_kernel = njit(**SUMS)
 """Decorator of a compiled kernel of dot products over wave components (vectorised partial sums)."""
-sum_block = njit(inline="always", **SUMS)
-"""Decorator of an inlined helper of such a kernel (it takes its caller's options once inlined: call it from
-``sum_kernel`` code only)."""
 
 ALLOCATING = {"cache": True, "nogil": True, "_nrt": True, "error_model": "python"}
 """Compile options of a function that allocates and is reached from kernels: the bounded least squares of the

@@ -64,7 +64,7 @@ import numpy as np
 
 from uvms.hydro.elementary import (SIN_COS_LIMIT, SMALL_LIMIT, exp_pair_reduced, sin_cos_reduced, sin_cos_small,
                                    sinh_cosh_scaled, small_hyperbolic_coefficients)
-from uvms.jit import block, fused_kernel, kernel, sum_block, sum_kernel
+from uvms.jit import block, fused_kernel, kernel, sum_kernel
 from uvms.lookup import last_at_or_before
 
 HOLD, ZERO, ERROR = 0, 1, 2
@@ -323,11 +323,13 @@ def wave_terms_fast(table, work, terms, x, y, zeta, t):
         sh = (e_up - bed) * table[NORM, i] if live else 0.0
         theta = x * table[K_X, i] + y * table[K_Y, i] + (table[PHASE, i] - table[OMEGA, i] * t)
         s, c = sin_cos_reduced(theta)
-        terms[ANCHOR_C, i] = ch * c
-        terms[ANCHOR_S, i] = ch * s
+        ch_c = ch * c
+        ch_s = ch * s
+        terms[ANCHOR_C, i] = ch_c
+        terms[ANCHOR_S, i] = ch_s
         terms[RATIO, i] = sh / ch if live else 0.0
-        work[CH_C, i] = ch * c
-        work[CH_S, i] = ch * s
+        work[CH_C, i] = ch_c
+        work[CH_S, i] = ch_s
         work[SH_S, i] = sh * s
         work[SH_C, i] = sh * c
 
@@ -349,11 +351,13 @@ def wave_terms_libm(table, work, terms, x, y, zeta, t):
             ch = (e + bed) * table[NORM, i]      # cosh(k (zeta + h)) / sinh(k h)
             sh = (e - bed) * table[NORM, i]      # sinh(k (zeta + h)) / sinh(k h)
             ratio = sh / ch
-        terms[ANCHOR_C, i] = ch * c
-        terms[ANCHOR_S, i] = ch * s
+        ch_c = ch * c
+        ch_s = ch * s
+        terms[ANCHOR_C, i] = ch_c
+        terms[ANCHOR_S, i] = ch_s
         terms[RATIO, i] = ratio
-        work[CH_C, i] = ch * c
-        work[CH_S, i] = ch * s
+        work[CH_C, i] = ch_c
+        work[CH_S, i] = ch_s
         work[SH_S, i] = sh * s
         work[SH_C, i] = sh * c
 
@@ -386,51 +390,46 @@ def wave_sums_near(table, weights, anchors, deltas, out, count):
         dy = deltas[b, Y]
         dzeta = deltas[b, ZETA]
         dt = deltas[b, T]
-        sums_near(table, weights, anchor, out[b], dx, dy, dzeta, dt)
-
-
-@sum_block
-def sums_near(table, weights, anchor, out, dx, dy, dzeta, dt):
-    """One body's loop of :func:`wave_sums_near` (inlined there)."""
-    vertical = small_hyperbolic_coefficients(dzeta)
-    ux = uy = ax = ay = uz = az = p_cc = p_cs = p_ss = q_c = q_s = 0.0
-    for i in range(table.shape[1]):
-        d = dx * table[K_X, i] + dy * table[K_Y, i] - dt * table[OMEGA, i]
-        sd, cd = sin_cos_small(d)
-        se, ce = sinh_cosh_scaled(table[WAVENUMBER, i], table[K_SQUARED, i], vertical)
-        re0 = anchor[ANCHOR_C, i]
-        im0 = anchor[ANCHOR_S, i]
-        rho = anchor[RATIO, i]
-        re = re0 * cd - im0 * sd                 # ch0 cos(theta + d theta)
-        im = im0 * cd + re0 * sd                 # ch0 sin(theta + d theta)
-        g = ce + rho * se                        # ch(zeta + dzeta) / ch0
-        f = rho * ce + se                        # sh(zeta + dzeta) / ch0
-        ch_c = g * re
-        ch_s = g * im
-        sh_s = f * im
-        sh_c = f * re
-        ux += weights[UX, i] * ch_c
-        uy += weights[UY, i] * ch_c
-        ax += weights[AX, i] * ch_s
-        ay += weights[AY, i] * ch_s
-        uz += weights[UZ, i] * sh_s
-        az += weights[AZ, i] * sh_c
-        p_cc += weights[PCC, i] * ch_s
-        p_cs += weights[PCS, i] * ch_s
-        p_ss += weights[PSS, i] * ch_s
-        q_c += weights[QC, i] * sh_c
-        q_s += weights[QS, i] * sh_c
-    out[UX] = ux
-    out[UY] = uy
-    out[AX] = ax
-    out[AY] = ay
-    out[UZ] = uz
-    out[AZ] = az
-    out[PCC] = p_cc
-    out[PCS] = p_cs
-    out[PSS] = p_ss
-    out[QC] = q_c
-    out[QS] = q_s
+        vertical = small_hyperbolic_coefficients(dzeta)
+        ux = uy = ax = ay = uz = az = p_cc = p_cs = p_ss = q_c = q_s = 0.0
+        for i in range(table.shape[1]):
+            d = dx * table[K_X, i] + dy * table[K_Y, i] - dt * table[OMEGA, i]
+            sd, cd = sin_cos_small(d)
+            se, ce = sinh_cosh_scaled(table[WAVENUMBER, i], table[K_SQUARED, i], vertical)
+            re0 = anchor[ANCHOR_C, i]
+            im0 = anchor[ANCHOR_S, i]
+            rho = anchor[RATIO, i]
+            re = re0 * cd - im0 * sd                 # ch0 cos(theta + d theta)
+            im = im0 * cd + re0 * sd                 # ch0 sin(theta + d theta)
+            g = ce + rho * se                        # ch(zeta + dzeta) / ch0
+            f = rho * ce + se                        # sh(zeta + dzeta) / ch0
+            ch_c = g * re
+            ch_s = g * im
+            sh_s = f * im
+            sh_c = f * re
+            ux += weights[UX, i] * ch_c
+            uy += weights[UY, i] * ch_c
+            ax += weights[AX, i] * ch_s
+            ay += weights[AY, i] * ch_s
+            uz += weights[UZ, i] * sh_s
+            az += weights[AZ, i] * sh_c
+            p_cc += weights[PCC, i] * ch_s
+            p_cs += weights[PCS, i] * ch_s
+            p_ss += weights[PSS, i] * ch_s
+            q_c += weights[QC, i] * sh_c
+            q_s += weights[QS, i] * sh_c
+        o = out[b]
+        o[UX] = ux
+        o[UY] = uy
+        o[AX] = ax
+        o[AY] = ay
+        o[UZ] = uz
+        o[AZ] = az
+        o[PCC] = p_cc
+        o[PCS] = p_cs
+        o[PSS] = p_ss
+        o[QC] = q_c
+        o[QS] = q_s
 
 
 @sum_kernel
