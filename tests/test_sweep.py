@@ -363,6 +363,9 @@ def test_external_scheduler_and_worker(tmp_path, warm_kernels, capsys):
                 except subprocess.TimeoutExpired:
                     pass
                 _stop_group(proc)
+                deadline = time.monotonic() + 20      # a killed process is gone once the kernel has torn it down
+                while _alive_in_group(proc.pid) and time.monotonic() < deadline:
+                    time.sleep(0.2)
                 assert not _alive_in_group(proc.pid)
 
 
