@@ -31,6 +31,13 @@ def test_a_missing_column_names_the_file_the_column_and_the_key(tmp_path):
         "pose.csv: column 'z' (pose.position): no such column; the header has: t, x, y, Z, qx, qy, qz, qw")
 
 
+def test_a_column_the_header_names_twice_is_refused_as_ambiguous_not_as_missing(tmp_path):
+    header = ["t", "x", "y", "z", "z", "qx", "qy", "qz", "qw"]
+    rows = [[*row[:4], row[3], *row[4:]] for row in GOOD_ROWS]
+    assert _refused(tmp_path, header=header, rows=rows) == (
+        "pose.csv: column 'z' (pose.position): the header names this column 2 times")
+
+
 def test_time_that_goes_backwards_names_the_line(tmp_path):
     rows = pose_rows([0, 1, 0.5], [[0, 0, 0]] * 3, [[0, 0, 0, 1]] * 3)
     assert _refused(tmp_path, rows=rows) == (
