@@ -10,6 +10,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import uvms
+from uvms.errors import UvmsInputError
 from uvms.logs import Log
 
 from .files import POSE_HEADER, POSE_XYZW, pose_rows, write_csv, write_log
@@ -184,6 +185,10 @@ def test_the_grid_ends_at_the_duration(tmp_path):
     assert log.grid(0.75).tolist() == [0.0, 0.75, 1.5, 2.0]
     assert log.grid(0.5).tolist() == [0.0, 0.5, 1.0, 1.5, 2.0]
     assert log.on_grid(1.0)["x_m"].to_list() == [0.0, 1.0, 2.0]
+    for step in (0.0, 2.5, float("nan")):
+        with pytest.raises(UvmsInputError, match=r": grid step: expected a number in \(0, 2\] s \(the log's "
+                           r"duration\), found "):
+            log.grid(step)
 
 
 def test_a_real_trial_reads_when_the_data_is_at_hand(tmp_path):

@@ -93,7 +93,7 @@ def test_bad_logs_exit_2_and_write_nothing(own_log, tmp_path, capsys, edit, mess
     (["--step", "0"], "--step: expected a positive, finite number [s], got 0.0"),
     (["--step", "nan"], "--step: expected a positive, finite number [s], got nan"),
     (["--grid", "0"], "--grid: expected a positive, finite number [s], got 0.0"),
-    (["--grid", "100"], "duration: grid step: expected a number in (0, 7.5] s (the log's duration), found 100.0"),
+    (["--grid", "100"], "--grid: expected at most the log's duration, 7.5 s, got 100.0"),
 ])
 def test_bad_step_or_grid_exit_2_and_write_nothing(own_log, tmp_path, capsys, options, message):
     out = tmp_path / "rp"

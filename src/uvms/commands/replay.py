@@ -64,6 +64,9 @@ def run(args: argparse.Namespace) -> int:
     check_output_folder(out, "--output", kind="replaced folder", force=args.force)
     model = load_model(args.model)
     log = Log.load(paths[0])
+    if args.grid is not None and args.grid > log.duration:
+        raise UvmsInputError(f"expected at most the log's duration, {log.duration:.9g} s, got {args.grid!r}", None,
+                             "--grid")
     from uvms.replays import replay
 
     options = {k: v for k, v in (("step", args.step), ("grid", args.grid)) if v is not None}

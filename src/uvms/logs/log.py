@@ -388,8 +388,8 @@ class Log:
     def grid(self, step: float) -> np.ndarray:
         """``0, step, 2 step, ...`` up to ``duration``, and ``duration`` itself when ``step`` does not divide it."""
         if not (isinstance(step, (int, float)) and not isinstance(step, bool) and 0 < step <= self.duration):
-            raise UvmsInputError(f"grid step: expected a number in (0, {self.duration:.9g}] s (the log's duration), "
-                                 f"found {show(step)}", self.source, "duration")
+            raise UvmsInputError(f"expected a number in (0, {self.duration:.9g}] s (the log's duration), "
+                                 f"found {show(step)}", self.source, "grid step")
         k = np.arange(int(np.floor(self.duration / step + 1e-9)) + 1)
         t = k * step
         return t if self.duration - t[-1] <= TIME_TOLERANCE else np.append(t, self.duration)
