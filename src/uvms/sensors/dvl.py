@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from uvms.sensors.base import Mount, SensorRecord, Truth, depth_of, mount_point, stream
+from uvms.sensors.base import Mount, SensorRecord, Truth, depth_of, mount_point, rotate_rows, stream
 
 BOTTOM_COLUMNS = ("bottom_x", "bottom_y", "bottom_z")
 WATER_COLUMNS = ("water_x", "water_y", "water_z")
@@ -66,7 +66,7 @@ class Dvl:
         u_body = np.einsum("kji,kj->ki", truth.rotation, water_velocity(flow, truth.time, points))   # R^T u_f
         to_sensor = self.mount.rotation.T
         altitude = self.water_depth - depth_of(truth, points)
-        return v_mount @ to_sensor.T, (v_mount - u_body) @ to_sensor.T, altitude
+        return rotate_rows(to_sensor, v_mount), rotate_rows(to_sensor, v_mount - u_body), altitude
 
     def errors(self, n_samples: int) -> dict[str, np.ndarray]:
         """The seeded draws of the first ``n_samples`` samples: noise ``bottom``, ``water`` (K, 3) [m/s] and the

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from uvms.sensors.base import Mount, SensorRecord, Truth
+from uvms.sensors.base import Mount, SensorRecord, Truth, rotate_rows
 from uvms.sensors.noise import NoiseDensity, axis_noise
 
 GYRO_COLUMNS = ("gyro_x", "gyro_y", "gyro_z")
@@ -45,7 +45,7 @@ class Imu:
         gravity_body = np.einsum("kji,j->ki", truth.rotation, truth.gravity)     # R^T g
         a = v_dot + np.cross(omega, v) + np.cross(omega_dot, r) + np.cross(omega, np.cross(omega, r))
         to_sensor = self.mount.rotation.T
-        return omega @ to_sensor.T, (a - gravity_body) @ to_sensor.T
+        return rotate_rows(to_sensor, omega), rotate_rows(to_sensor, a - gravity_body)
 
     def errors(self, n_samples: int) -> dict[str, np.ndarray]:
         """The seeded errors of the first ``n_samples`` samples: ``gyro``, ``accel`` (K, 3) (a part left out
